@@ -1,0 +1,35 @@
+// Internals shared by the scenes library's source files; not part of the API.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "scenes/scene.h"
+
+namespace sb::detail {
+
+Scene generateCity(uint32_t size, uint64_t seed);
+Scene generateTerrain(uint32_t size, uint64_t seed);
+Scene generateForest(uint32_t size, uint64_t seed);
+Scene generateTangle(uint32_t size, uint64_t seed);
+
+// Throws a SceneError naming the generator when `size` lies outside [min, max].
+void checkSize(std::string_view generator, uint32_t size, uint32_t min, uint32_t max);
+
+// "city:size=6,seed=1": the name of a generated scene, which openScene reads back.
+std::string generatedSceneName(std::string_view generator, uint32_t size, uint64_t seed);
+
+// A model file read by Assimp: one open mesh per model mesh, the default light.
+Scene loadModelScene(const std::filesystem::path& path);
+
+// Mesh names are [A-Za-z0-9_-]+ so that they can appear in file names and records unquoted.
+bool isValidMeshName(std::string_view name);
+
+// The invariants every scene satisfies whatever its source: at least one triangle and one
+// light, unique valid mesh names, indices in range, finite coordinates. Throws a SceneError
+// "scene '<origin>': <problem>".
+void validateScene(const Scene& scene, std::string_view origin);
+
+}  // namespace sb::detail

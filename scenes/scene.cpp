@@ -1,0 +1,277 @@
+// Scene queries, the generator registry and openScene's specification grammar.
+#include "scenes/scene.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <system_error>
+#include <unordered_set>
+
+#include <fmt/format.h>
+#include <xxhash.h>
+
+#include "scenes/detail.h"
+
+namespace sb {
+
+uint64_t Scene::triangleCount() const {
+  uint64_t count = 0;
+  for (const Mesh& mesh : meshes) count += mesh.triangles.size();
+  return count;
+}
+
+Bounds Scene::bounds() const {
+  glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+  for (const Mesh& mesh : meshes)
+    for (const glm::uvec3& triangle : mesh.triangles)
+      for (int corner = 0; corner < 3; ++corner) {
+        const glm::vec3 p = mesh.vertices[triangle[corner]];
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+      }
+  if (!(lo.x <= hi.x)) return {};  // no triangles
+  return {lo, hi};
+}
+
+namespace {
+
+// Feeds XXH3 with explicit little-endian bytes, buffered, so that the hash depends on the
+// values alone: not on struct padding, alignment or the machine's byte order.
+class HashStream {
+ public:
+  HashStream() { XXH3_64bits_reset(&state_); }
+  void u8(uint8_t v) { put(&v, 1); }
+  void u32(uint32_t v) {
+    uint8_t bytes[4];
+    for (int i = 0; i < 4; ++i) bytes[i] = static_cast<uint8_t>(v >> (8 * i));
+    put(bytes, 4);
+  }
+  void u64(uint64_t v) {
+    u32(static_cast<uint32_t>(v));
+    u32(static_cast<uint32_t>(v >> 32));
+  }
+  void f32(float v) { u32(std::bit_cast<uint32_t>(v)); }
+  void text(std::string_view s) {
+    u64(s.size());
+    put(s.data(), s.size());
+  }
+  uint64_t digest() {
+    flush();
+    return XXH3_64bits_digest(&state_);
+  }
+
+ private:
+  void put(const void* data, size_t size) {
+    if (used_ + size > buffer_.size()) flush();
+    if (size > buffer_.size()) {
+      XXH3_64bits_update(&state_, data, size);
+      return;
+    }
+    std::copy_n(static_cast<const uint8_t*>(data), size, buffer_.data() + used_);
+    used_ += size;
+  }
+  void flush() {
+    XXH3_64bits_update(&state_, buffer_.data(), used_);
+    used_ = 0;
+  }
+
+  XXH3_state_t state_;
+  std::array<uint8_t, 1 << 16> buffer_;
+  size_t used_ = 0;
+};
+
+}  // namespace
+
+// Byte stream: mesh count, then per mesh: name (length, bytes), closed (1 byte), vertex count,
+// vertices (x, y, z as float bits), triangle count, triangles (3 × uint32); integers in
+// little-endian. Lengths are included so that no two different scenes share a stream.
+std::string Scene::hash() const {
+  auto stream = std::make_unique<HashStream>();  // 64 KiB buffer: keep it off the stack
+  stream->u64(meshes.size());
+  for (const Mesh& mesh : meshes) {
+    stream->text(mesh.name);
+    stream->u8(mesh.closed ? 1 : 0);
+    stream->u64(mesh.vertices.size());
+    for (const glm::vec3& v : mesh.vertices) {
+      stream->f32(v.x);
+      stream->f32(v.y);
+      stream->f32(v.z);
+    }
+    stream->u64(mesh.triangles.size());
+    for (const glm::uvec3& t : mesh.triangles) {
+      stream->u32(t.x);
+      stream->u32(t.y);
+      stream->u32(t.z);
+    }
+  }
+  return fmt::format("{:016x}", stream->digest());
+}
+
+LightSpec defaultLight() {
+  LightSpec light;
+  light.kind = LightKind::Directional;
+  light.direction = glm::normalize(glm::vec3{0.35f, 0.25f, -1.0f});
+  return light;
+}
+
+const std::vector<GeneratorInfo>& sceneGenerators() {
+  static const std::vector<GeneratorInfo> generators = {
+      {"city",
+       "closed city: box buildings with setbacks and spires on a ground slab; size = blocks per "
+       "side",
+       6, 36, detail::generateCity},
+      {"terrain", "closed fractal landscape solid; size = grid cells per side", 128, 1024,
+       detail::generateTerrain},
+      {"forest",
+       "open trees: tube trunks and branches, leaf cards, ground quad; size = trees per side", 8,
+       45, detail::generateForest},
+      {"tangle", "dense knot of closed tubes in a ball (hairball stand-in); size = number of tubes",
+       12, 650, detail::generateTangle},
+  };
+  return generators;
+}
+
+namespace detail {
+
+void checkSize(std::string_view generator, uint32_t size, uint32_t min, uint32_t max) {
+  if (size < min || size > max)
+    throw SceneError(
+        fmt::format("generator '{}': size {} out of range [{}, {}]", generator, size, min, max));
+}
+
+std::string generatedSceneName(std::string_view generator, uint32_t size, uint64_t seed) {
+  return fmt::format("{}:size={},seed={}", generator, size, seed);
+}
+
+bool isValidMeshName(std::string_view name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-';
+  });
+}
+
+void validateScene(const Scene& scene, std::string_view origin) {
+  auto fail = [&](const std::string& problem) {
+    throw SceneError(fmt::format("scene '{}': {}", origin, problem));
+  };
+  if (scene.lights.empty()) fail("no lights");
+  std::unordered_set<std::string_view> names;
+  for (const Mesh& mesh : scene.meshes) {
+    if (!isValidMeshName(mesh.name))
+      fail(fmt::format("mesh name '{}' is not [A-Za-z0-9_-]+", mesh.name));
+    if (!names.insert(mesh.name).second) fail(fmt::format("two meshes are named '{}'", mesh.name));
+    for (const glm::vec3& v : mesh.vertices)
+      if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        fail(fmt::format("mesh '{}': non-finite vertex coordinate", mesh.name));
+    for (const glm::uvec3& t : mesh.triangles)
+      if (std::max({t.x, t.y, t.z}) >= mesh.vertices.size())
+        fail(fmt::format("mesh '{}': vertex index {} out of range ({} vertices)", mesh.name,
+                         std::max({t.x, t.y, t.z}), mesh.vertices.size()));
+  }
+  if (scene.triangleCount() == 0) fail("no triangles");
+}
+
+}  // namespace detail
+
+namespace {
+
+const GeneratorInfo* findGenerator(std::string_view name) {
+  for (const GeneratorInfo& g : sceneGenerators())
+    if (g.name == name) return &g;
+  return nullptr;
+}
+
+std::string generatorNames() {
+  std::string names;
+  for (const GeneratorInfo& g : sceneGenerators()) names += (names.empty() ? "" : ", ") + g.name;
+  return names;
+}
+
+std::optional<uint64_t> parseUnsigned(std::string_view text) {
+  uint64_t value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc{} || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+// "full" | "size=N" | "seed=N", comma-separated, each at most once.
+Scene openGenerator(const GeneratorInfo& generator, std::string_view spec, std::string_view knobs) {
+  auto fail = [&](const std::string& problem) {
+    throw SceneError(fmt::format(
+        "scene '{}': {} (knobs of '{}': size=N, seed=N, full; e.g. '{}:size={},seed=7')", spec,
+        problem, generator.name, generator.name, generator.defaultSize));
+  };
+  constexpr auto npos = std::string_view::npos;
+  std::optional<uint64_t> size, seed;
+  for (std::string_view rest = knobs; !rest.empty();) {
+    const size_t comma = rest.find(',');
+    const std::string_view knob = rest.substr(0, comma);
+    rest = comma == npos ? std::string_view{} : rest.substr(comma + 1);
+    if (comma != npos && rest.empty()) fail("trailing comma");
+    if (knob == "full") {
+      if (size) fail("size given twice");
+      size = generator.fullSize;
+      continue;
+    }
+    const size_t equals = knob.find('=');
+    const std::string_view key = knob.substr(0, equals);
+    if (key != "size" && key != "seed") fail(fmt::format("unknown knob '{}'", knob));
+    std::optional<uint64_t>& target = key == "size" ? size : seed;
+    const std::optional<uint64_t> value =
+        equals == npos ? std::nullopt : parseUnsigned(knob.substr(equals + 1));
+    if (!value) fail(fmt::format("knob '{}' needs a non-negative integer value", knob));
+    if (target) fail(fmt::format("{} given twice", key));
+    target = value;
+  }
+  if (size && *size > std::numeric_limits<uint32_t>::max())
+    fail(fmt::format("size {} is too large", *size));
+  Scene scene;
+  try {
+    scene = generator.generate(size ? static_cast<uint32_t>(*size) : generator.defaultSize,
+                               seed.value_or(1));
+  } catch (const SceneError& e) {
+    throw SceneError(fmt::format("scene '{}': {}", spec, e.what()));
+  }
+  detail::validateScene(scene, spec);
+  return scene;
+}
+
+bool hasJsonExtension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext == ".json";
+}
+
+}  // namespace
+
+Scene openScene(std::string_view spec) {
+  if (spec.empty())
+    throw SceneError("scene '': empty specification (a generator name such as 'city', or a file)");
+  const size_t colon = spec.find(':');
+  const std::string_view head = spec.substr(0, colon);
+  if (const GeneratorInfo* generator = findGenerator(head))
+    return openGenerator(
+        *generator, spec,
+        colon == std::string_view::npos ? std::string_view{} : spec.substr(colon + 1));
+
+  const std::filesystem::path path{spec};
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) {
+    const bool looksLikeFile = head.find_first_of("./\\") != std::string_view::npos;
+    if (!looksLikeFile)
+      throw SceneError(
+          fmt::format("scene '{}': no generator '{}' and no such file (generators: {})", spec, head,
+                      generatorNames()));
+    throw SceneError(fmt::format("scene '{}': no such file", spec));
+  }
+  return hasJsonExtension(path) ? loadSceneFile(path) : detail::loadModelScene(path);
+}
+
+}  // namespace sb
