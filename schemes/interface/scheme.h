@@ -1,0 +1,141 @@
+// The one encoder/decoder interface every compressed shadow-map scheme implements (DESIGN §5).
+//
+// A scheme sees only light space: the dual depth map of DESIGN §3 arrives tile by tile as
+// DualDepthTiles; the decoder answers batches of point and PCF queries. Schemes never time,
+// print or write files: they name their build phases and counters through BuildContext and
+// the harness measures.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace sb {
+
+class ByteReader;
+class ByteWriter;
+
+// DESIGN §3: how the interval [lo, hi] of a texel is defined.
+enum class DepthMode { Open, Closed, Static };
+std::string_view toString(DepthMode mode);
+DepthMode depthModeFromString(std::string_view name);  // throws std::invalid_argument
+
+// Depth schemes return a depth per texel; voxel schemes quantise z to Rz slices (DESIGN §4).
+enum class SchemeKind { Depth, Voxel };
+std::string_view toString(SchemeKind kind);
+
+// What a structure describes: an R×R map (R a power of two) in one mode, with Rz depth slices
+// for voxel schemes.
+struct MapInfo {
+  uint32_t resolution = 0;
+  uint32_t depthResolution = 0;  // Rz; voxel schemes only (DESIGN default Rz = R)
+  DepthMode mode = DepthMode::Open;
+  uint64_t texelCount() const { return uint64_t(resolution) * resolution; }
+};
+
+// A rectangle of the dual depth map: texels [x0, x0 + width) × [y0, y0 + height), row-major.
+// A texel whose ray hits nothing has lo = 1 and hi = +inf.
+struct DualDepthTile {
+  uint32_t x0 = 0, y0 = 0, width = 0, height = 0;
+  std::vector<float> lo, hi;
+
+  void resize(uint32_t x, uint32_t y, uint32_t w, uint32_t h) {
+    x0 = x, y0 = y, width = w, height = h;
+    lo.resize(size_t(w) * h);
+    hi.resize(size_t(w) * h);
+  }
+  size_t index(uint32_t i, uint32_t j) const { return size_t(j - y0) * width + (i - x0); }
+};
+
+// A light-space query point: x, y in [0, 1) across the map, z in [0, 1] from near to far.
+struct Query {
+  float x, y, z;
+};
+
+// Bytes a lookup may touch, by named component (DESIGN §5: nothing that only the build needs).
+using SizeBreakdown = std::vector<std::pair<std::string, uint64_t>>;
+uint64_t totalBytes(const SizeBreakdown& sizes);
+
+class Decoder {
+ public:
+  virtual ~Decoder() = default;
+  // For each query, the fraction of the k×k texels centred on the query texel that are lit at
+  // the query's depth (k odd, 1 ≤ k ≤ 17; k = 1 is the point test, 1 lit or 0 shadowed).
+  // Taps outside the map count as lit.
+  virtual void lookup(std::span<const Query> queries, int k, std::span<float> visibility) const = 0;
+  virtual SizeBreakdown size() const = 0;
+  // The scheme's payload; the harness wraps it in the versioned, checksummed file.
+  virtual void save(ByteWriter& out) const = 0;
+};
+
+// The harness's side of a build: phase boundaries and counters a scheme reports, timed and
+// recorded by the harness.
+class BuildContext {
+ public:
+  virtual ~BuildContext() = default;
+  // Everything from now until the next phase() call (or the build's end) belongs to `name`.
+  virtual void phase(std::string_view name) = 0;
+  virtual void count(std::string_view name, uint64_t value) = 0;
+};
+
+class Encoder {
+ public:
+  virtual ~Encoder() = default;
+  // Tiles arrive in the harness's fixed order (square tiles in Morton order, each once).
+  virtual void consume(const DualDepthTile& tile, BuildContext& context) = 0;
+  virtual std::unique_ptr<Decoder> finish(BuildContext& context) = 0;
+};
+
+// Parameter values by name, as text: the registry validates and defaults them.
+using Params = std::map<std::string, std::string, std::less<>>;
+
+// A scheme parameter, declared on the scheme's registry row. Either an integer range or a set
+// of named choices; `sweep` lists the values a parameter sweep visits.
+struct ParamSpec {
+  std::string name;
+  std::string help;
+  std::string defaultValue;
+  int64_t min = 0, max = 0;          // integer parameters (choices empty)
+  std::vector<std::string> choices;  // choice parameters
+  std::vector<std::string> sweep;
+};
+
+// A scheme parameter error names the scheme and the parameter.
+class ParamError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+struct SchemeInfo {
+  std::string name;
+  std::string paper;  // the citation, for tables and --help
+  SchemeKind kind = SchemeKind::Depth;
+  std::vector<ParamSpec> params;
+  // Bytes the build needs at least (for refusing a resolution that cannot fit before starting).
+  std::function<uint64_t(const MapInfo&, const Params&)> buildBytes;
+  std::function<std::unique_ptr<Encoder>(const MapInfo&, const Params&)> makeEncoder;
+  // Reads a payload written by Decoder::save, validating everything: a structure that loads
+  // never reads out of bounds at lookup time. Throws FormatError.
+  std::function<std::unique_ptr<Decoder>(ByteReader&, const MapInfo&, const Params&)> load;
+
+  // Defaults filled in, every value checked against its spec; throws ParamError.
+  Params resolve(const Params& given) const;
+  int64_t integer(const Params& resolved, std::string_view param) const;
+};
+
+// The registry: schemes add themselves with SHADOWBENCH_REGISTER_SCHEME in their own folder.
+const std::vector<SchemeInfo>& schemes();
+const SchemeInfo& findScheme(std::string_view name);  // throws std::invalid_argument naming them
+bool registerScheme(SchemeInfo info);
+
+#define SHADOWBENCH_REGISTER_SCHEME(info_function) \
+  [[maybe_unused]] static const bool sb_registered_##info_function = ::sb::registerScheme(info_function())
+
+}  // namespace sb

@@ -1,0 +1,107 @@
+// Serialisation shared by every scheme: little-endian byte buffers with bounds-checked reads,
+// and the structure file that wraps a scheme's payload (versioned, checksummed).
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "schemes/interface/scheme.h"
+
+namespace sb {
+
+// A structure file that is truncated, corrupted, of another version or otherwise invalid.
+class FormatError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class ByteWriter {
+ public:
+  template <class T>
+  void put(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    append(&value, sizeof(T));
+  }
+  template <class T>
+  void putArray(std::span<const T> values) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    put<uint64_t>(values.size());
+    append(values.data(), values.size_bytes());
+  }
+  void append(const void* data, size_t bytes);
+  const std::vector<uint8_t>& bytes() const { return bytes_; }
+  std::vector<uint8_t> release() { return std::move(bytes_); }
+
+ private:
+  std::vector<uint8_t> bytes_;
+};
+
+// Reads what a ByteWriter wrote; every read is checked against the end and names `what` in
+// the FormatError it throws.
+class ByteReader {
+ public:
+  explicit ByteReader(std::span<const uint8_t> bytes) : bytes_(bytes) {}
+  template <class T>
+  T get(const char* what) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    T value;
+    std::memcpy(&value, take(sizeof(T), what), sizeof(T));
+    return value;
+  }
+  // An array written by putArray; `expected` (when not ~0) is the element count the caller
+  // derived from the header, and any other count is an error.
+  template <class T>
+  std::vector<T> getArray(const char* what, uint64_t expected = ~uint64_t(0)) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const uint64_t count = get<uint64_t>(what);
+    if (expected != ~uint64_t(0) && count != expected) mismatch(what, count, expected);
+    if (count > remaining() / sizeof(T)) truncated(what);
+    std::vector<T> values(count);
+    std::memcpy(values.data(), take(count * sizeof(T), what), count * sizeof(T));
+    return values;
+  }
+  size_t remaining() const { return bytes_.size() - offset_; }
+  // Throws unless every byte was consumed: trailing bytes mean a corrupted or foreign file.
+  void expectEnd() const;
+
+ private:
+  const uint8_t* take(size_t bytes, const char* what);
+  [[noreturn]] void truncated(const char* what) const;
+  [[noreturn]] static void mismatch(const char* what, uint64_t got, uint64_t expected);
+
+  std::span<const uint8_t> bytes_;
+  size_t offset_ = 0;
+};
+
+// The header every structure file carries before the scheme's payload.
+struct StructureHeader {
+  std::string scheme;
+  Params params;
+  MapInfo map;
+};
+
+// Structure file layout (all little-endian):
+//   8 bytes  magic "SHDWBNCH"
+//   u32      container version (kStructureFileVersion)
+//   u32      header length H, then H bytes of JSON {scheme, params, resolution, depth_resolution, mode}
+//   u64      payload length P, then P bytes of the scheme's payload
+//   u64      XXH3-64 of every byte before it
+inline constexpr uint32_t kStructureFileVersion = 1;
+
+std::vector<uint8_t> encodeStructureFile(const StructureHeader& header, const Decoder& decoder);
+// Validates magic, version, checksum and header, then has the scheme validate its payload.
+std::unique_ptr<Decoder> decodeStructureFile(std::span<const uint8_t> file, StructureHeader* header);
+
+// File versions of the two above; `save` writes atomically (temporary file, then rename).
+void saveStructure(const std::filesystem::path& path, const StructureHeader& header,
+                   const Decoder& decoder);
+std::unique_ptr<Decoder> loadStructure(const std::filesystem::path& path, StructureHeader* header);
+
+}  // namespace sb
