@@ -30,9 +30,17 @@ class DepthDecoder : public Decoder {
       const Query& query = queries[q];
       const int64_t ci = texelOf(query.x, resolution), cj = texelOf(query.y, resolution);
       int lit = 0;
-      for (int64_t j = cj - radius; j <= cj + radius; ++j)
-        for (int64_t i = ci - radius; i <= ci + radius; ++i)
-          lit += !insideMap(i, j, resolution) || query.z <= self.depth(uint32_t(i), uint32_t(j));
+      if (insideMap(ci - radius, cj - radius, resolution) &&
+          insideMap(ci + radius, cj + radius, resolution)) {
+        // The whole kernel lies inside the map: no per-tap bounds test.
+        for (uint32_t j = uint32_t(cj - radius); j <= uint32_t(cj + radius); ++j)
+          for (uint32_t i = uint32_t(ci - radius); i <= uint32_t(ci + radius); ++i)
+            lit += query.z <= self.depth(i, j);
+      } else {
+        for (int64_t j = cj - radius; j <= cj + radius; ++j)
+          for (int64_t i = ci - radius; i <= ci + radius; ++i)
+            lit += !insideMap(i, j, resolution) || query.z <= self.depth(uint32_t(i), uint32_t(j));
+      }
       visibility[q] = float(lit) / taps;
     }
   }

@@ -30,8 +30,7 @@ std::vector<float> answersOnGrid(const Decoder& decoder, uint32_t resolution) {
       for (float z : {0.0f, 0.1f, 0.3f, 0.5f, 0.7f, 0.9f, 1.0f})
         queries.push_back({(i + 0.5f) / resolution, (j + 0.5f) / resolution, z});
   std::vector<float> answers(queries.size());
-  for (int k : {1, 3})
-    decoder.lookup(queries, k, std::span(answers));
+  for (int k : {1, 3}) decoder.lookup(queries, k, std::span(answers));
   return answers;
 }
 
@@ -60,7 +59,8 @@ TEST_CASE("parameters are validated against the registry row", "[interface]") {
     }
     return std::string("no error");
   };
-  CHECK_THAT(message({{"treelet", "9"}}), Catch::Contains("'demo'") && Catch::Contains("'treelet'"));
+  CHECK_THAT(message({{"treelet", "9"}}),
+             Catch::Contains("'demo'") && Catch::Contains("'treelet'"));
   CHECK_THAT(message({{"treelet", "4x"}}), Catch::Contains("'treelet'"));
   CHECK_THAT(message({{"layout", "2x2"}}), Catch::Contains("'layout'") && Catch::Contains("8x8x1"));
   CHECK_THAT(message({{"colour", "red"}}), Catch::Contains("no parameter 'colour'"));
@@ -102,7 +102,9 @@ TEST_CASE("every scheme answers inside the intervals of a synthetic map", "[inte
           const float lo = map.lo[j * 32 + i], hi = map.hi[j * 32 + i];
           for (float z : {lo, std::nextafter(lo, -1.0f), std::nextafter(hi, 2.0f), 0.0f}) {
             const float tested =
-                scheme.kind == SchemeKind::Voxel ? voxelCentre(voxelOf(z, info.depthResolution), info.depthResolution) : z;
+                scheme.kind == SchemeKind::Voxel
+                    ? voxelCentre(voxelOf(z, info.depthResolution), info.depthResolution)
+                    : z;
             if (tested <= lo || tested > hi) {
               queries.push_back({(i + 0.25f) / 32, (j + 0.75f) / 32, z});
               expected.push_back(tested <= lo);
@@ -124,17 +126,20 @@ TEST_CASE("lookups reject invalid filter sizes and count outside taps as lit", "
     const auto decoder = map.build(scheme, {}, 16);
     std::vector<Query> q{{-0.5f, 0.5f, 1.0f}, {0.5f, 1.5f, 1.0f}};
     std::vector<float> out(2);
-    for (int bad : {0, 2, 19, -1}) CHECK_THROWS_AS(decoder->lookup(q, bad, out), std::invalid_argument);
+    for (int bad : {0, 2, 19, -1})
+      CHECK_THROWS_AS(decoder->lookup(q, bad, out), std::invalid_argument);
     decoder->lookup(q, 1, out);
     CHECK(out[0] == 1.0f);
     CHECK(out[1] == 1.0f);
   }
 }
 
-TEST_CASE("structures round-trip through their files and reject every corruption", "[interface][format]") {
+TEST_CASE("structures round-trip through their files and reject every corruption",
+          "[interface][format]") {
   for (const SchemeInfo& scheme : schemes()) {
     INFO(scheme.name);
-    const SyntheticMap map = SyntheticMap::random(kGoldenResolution, DepthMode::Closed, kGoldenSeed);
+    const SyntheticMap map =
+        SyntheticMap::random(kGoldenResolution, DepthMode::Closed, kGoldenSeed);
     const auto decoder = map.build(scheme, {}, kGoldenResolution);
     const StructureHeader header{scheme.name, scheme.resolve({}), map.info(scheme.kind)};
     const std::vector<uint8_t> file = encodeStructureFile(header, *decoder);
@@ -156,14 +161,16 @@ TEST_CASE("structures round-trip through their files and reject every corruption
   }
 }
 
-TEST_CASE("a valid checksum does not make an inconsistent header acceptable", "[interface][format]") {
+TEST_CASE("a valid checksum does not make an inconsistent header acceptable",
+          "[interface][format]") {
   const SchemeInfo& scheme = findScheme("sm32");
   const SyntheticMap map = SyntheticMap::random(16, DepthMode::Open, 1);
   const auto decoder = map.build(scheme, {}, 16);
   for (uint32_t claimed : {8u, 32u, 12u}) {
     // The header claims another resolution than the payload holds, checksum recomputed.
     const StructureHeader header{scheme.name, {}, {claimed, 0, DepthMode::Open}};
-    CHECK_THROWS_AS(decodeStructureFile(encodeStructureFile(header, *decoder), nullptr), FormatError);
+    CHECK_THROWS_AS(decodeStructureFile(encodeStructureFile(header, *decoder), nullptr),
+                    FormatError);
   }
   const StructureHeader unknown{"no-such-scheme", {}, {16, 0, DepthMode::Open}};
   CHECK_THROWS_WITH(decodeStructureFile(encodeStructureFile(unknown, *decoder), nullptr),
@@ -175,13 +182,15 @@ TEST_CASE("a valid checksum does not make an inconsistent header acceptable", "[
 TEST_CASE("file formats match their golden files", "[interface][format]") {
   for (const SchemeInfo& scheme : schemes()) {
     INFO(scheme.name);
-    const SyntheticMap map = SyntheticMap::random(kGoldenResolution, DepthMode::Closed, kGoldenSeed);
+    const SyntheticMap map =
+        SyntheticMap::random(kGoldenResolution, DepthMode::Closed, kGoldenSeed);
     const auto decoder = map.build(scheme, {}, kGoldenResolution);
     const std::vector<uint8_t> file =
         encodeStructureFile({scheme.name, scheme.resolve({}), map.info(scheme.kind)}, *decoder);
     const std::string path = "tests/golden/" + scheme.name + ".sb";
     if (std::getenv("SHADOWBENCH_UPDATE_GOLDEN")) {
-      std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(file.data()), file.size());
+      std::ofstream(path, std::ios::binary)
+          .write(reinterpret_cast<const char*>(file.data()), file.size());
     }
     const std::vector<uint8_t> golden = readFile(path);
     INFO("golden file " << path << " (create it with SHADOWBENCH_UPDATE_GOLDEN=1)");

@@ -30,6 +30,8 @@ inline float voxelCentre(uint32_t k, uint32_t depthResolution) {
   return (float(k) + 0.5f) / float(depthResolution);
 }
 
-inline bool validFilterSize(int k) { return k >= 1 && k <= 17 && k % 2 == 1; }
+inline bool validFilterSize(int k) {
+  return k >= 1 && k <= 17 && k % 2 == 1;
+}
 
 }  // namespace sb

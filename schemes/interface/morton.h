@@ -28,8 +28,14 @@ inline uint32_t compactBits(uint64_t x) {
   return uint32_t(x);
 }
 
-inline uint64_t mortonCode(uint32_t x, uint32_t y) { return spreadBits(x) | spreadBits(y) << 1; }
-inline uint32_t mortonX(uint64_t code) { return compactBits(code); }
-inline uint32_t mortonY(uint64_t code) { return compactBits(code >> 1); }
+inline uint64_t mortonCode(uint32_t x, uint32_t y) {
+  return spreadBits(x) | spreadBits(y) << 1;
+}
+inline uint32_t mortonX(uint64_t code) {
+  return compactBits(code);
+}
+inline uint32_t mortonY(uint64_t code) {
+  return compactBits(code >> 1);
+}
 
 }  // namespace sb

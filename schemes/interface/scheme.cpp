@@ -9,9 +9,12 @@ namespace sb {
 
 std::string_view toString(DepthMode mode) {
   switch (mode) {
-    case DepthMode::Open: return "open";
-    case DepthMode::Closed: return "closed";
-    case DepthMode::Static: return "static";
+    case DepthMode::Open:
+      return "open";
+    case DepthMode::Closed:
+      return "closed";
+    case DepthMode::Static:
+      return "static";
   }
   return "?";
 }
@@ -23,7 +26,9 @@ DepthMode depthModeFromString(std::string_view name) {
       fmt::format("unknown depth mode '{}' (expected open, closed or static)", name));
 }
 
-std::string_view toString(SchemeKind kind) { return kind == SchemeKind::Depth ? "depth" : "voxel"; }
+std::string_view toString(SchemeKind kind) {
+  return kind == SchemeKind::Depth ? "depth" : "voxel";
+}
 
 uint64_t totalBytes(const SizeBreakdown& sizes) {
   uint64_t total = 0;
@@ -52,8 +57,9 @@ void checkValue(const SchemeInfo& scheme, const ParamSpec& spec, const std::stri
   const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), parsed);
   if (error != std::errc() || end != value.data() + value.size() || parsed < spec.min ||
       parsed > spec.max)
-    throw ParamError(fmt::format("scheme '{}': parameter '{}' must be an integer in [{}, {}], got '{}'",
-                                 scheme.name, spec.name, spec.min, spec.max, value));
+    throw ParamError(
+        fmt::format("scheme '{}': parameter '{}' must be an integer in [{}, {}], got '{}'",
+                    scheme.name, spec.name, spec.min, spec.max, value));
 }
 
 std::vector<SchemeInfo>& registry() {
@@ -81,7 +87,9 @@ int64_t SchemeInfo::integer(const Params& resolved, std::string_view param) cons
   return std::stoll(value);
 }
 
-const std::vector<SchemeInfo>& schemes() { return registry(); }
+const std::vector<SchemeInfo>& schemes() {
+  return registry();
+}
 
 const SchemeInfo& findScheme(std::string_view name) {
   for (const SchemeInfo& scheme : registry())

@@ -135,7 +135,8 @@ const std::vector<SchemeInfo>& schemes();
 const SchemeInfo& findScheme(std::string_view name);  // throws std::invalid_argument naming them
 bool registerScheme(SchemeInfo info);
 
-#define SHADOWBENCH_REGISTER_SCHEME(info_function) \
-  [[maybe_unused]] static const bool sb_registered_##info_function = ::sb::registerScheme(info_function())
+#define SHADOWBENCH_REGISTER_SCHEME(info_function)                   \
+  [[maybe_unused]] static const bool sb_registered_##info_function = \
+      ::sb::registerScheme(info_function())
 
 }  // namespace sb

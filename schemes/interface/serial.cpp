@@ -4,8 +4,8 @@
 #include <iterator>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <xxhash.h>
+#include <nlohmann/json.hpp>
 
 namespace sb {
 
@@ -41,7 +41,8 @@ StructureHeader parseHeader(std::string_view text) {
   }
   const uint32_t r = header.map.resolution;
   if (r < 8 || r > (1u << 20) || (r & (r - 1)) != 0)
-    throw FormatError(fmt::format("structure header: resolution {} is not a power of two in [8, 2^20]", r));
+    throw FormatError(
+        fmt::format("structure header: resolution {} is not a power of two in [8, 2^20]", r));
   return header;
 }
 
@@ -60,12 +61,13 @@ const uint8_t* ByteReader::take(size_t bytes, const char* what) {
 }
 
 void ByteReader::truncated(const char* what) const {
-  throw FormatError(fmt::format("truncated while reading {} (at byte {} of {})", what, offset_,
-                                bytes_.size()));
+  throw FormatError(
+      fmt::format("truncated while reading {} (at byte {} of {})", what, offset_, bytes_.size()));
 }
 
 void ByteReader::mismatch(const char* what, uint64_t got, uint64_t expected) {
-  throw FormatError(fmt::format("{}: {} elements where the header implies {}", what, got, expected));
+  throw FormatError(
+      fmt::format("{}: {} elements where the header implies {}", what, got, expected));
 }
 
 void ByteReader::expectEnd() const {
@@ -92,14 +94,16 @@ std::unique_ptr<Decoder> decodeStructureFile(std::span<const uint8_t> file,
                                              StructureHeader* headerOut) {
   constexpr size_t kMinimum = sizeof kMagic + 4 + 4 + 8 + 8;
   if (file.size() < kMinimum)
-    throw FormatError(fmt::format("not a shadowbench structure: {} bytes is shorter than any", file.size()));
+    throw FormatError(
+        fmt::format("not a shadowbench structure: {} bytes is shorter than any", file.size()));
   if (std::memcmp(file.data(), kMagic, sizeof kMagic) != 0)
     throw FormatError("not a shadowbench structure (bad magic)");
   ByteReader reader(file.subspan(sizeof kMagic));
   const auto version = reader.get<uint32_t>("container version");
   if (version != kStructureFileVersion)
-    throw FormatError(fmt::format("structure file version {} is not supported (this build reads {})",
-                                  version, kStructureFileVersion));
+    throw FormatError(
+        fmt::format("structure file version {} is not supported (this build reads {})", version,
+                    kStructureFileVersion));
   const size_t body = file.size() - sizeof(uint64_t);
   uint64_t stored;
   std::memcpy(&stored, file.data() + body, sizeof stored);
@@ -113,7 +117,8 @@ std::unique_ptr<Decoder> decodeStructureFile(std::span<const uint8_t> file,
   for (char& c : json) c = char(reader.get<uint8_t>("header"));
   StructureHeader header = parseHeader(json);
   const auto payloadBytes = reader.get<uint64_t>("payload length");
-  if (reader.remaining() < sizeof(uint64_t) || payloadBytes != reader.remaining() - sizeof(uint64_t))
+  if (reader.remaining() < sizeof(uint64_t) ||
+      payloadBytes != reader.remaining() - sizeof(uint64_t))
     throw FormatError(fmt::format("payload length {} does not match the file ({} bytes left)",
                                   payloadBytes, reader.remaining() - sizeof(uint64_t)));
 
@@ -149,7 +154,8 @@ void saveStructure(const std::filesystem::path& path, const StructureHeader& hea
 std::unique_ptr<Decoder> loadStructure(const std::filesystem::path& path, StructureHeader* header) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw FormatError(fmt::format("cannot open structure file '{}'", path.string()));
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                             std::istreambuf_iterator<char>());
   try {
     return decodeStructureFile(bytes, header);
   } catch (const FormatError& error) {

@@ -90,14 +90,15 @@ struct StructureHeader {
 // Structure file layout (all little-endian):
 //   8 bytes  magic "SHDWBNCH"
 //   u32      container version (kStructureFileVersion)
-//   u32      header length H, then H bytes of JSON {scheme, params, resolution, depth_resolution, mode}
-//   u64      payload length P, then P bytes of the scheme's payload
-//   u64      XXH3-64 of every byte before it
+//   u32      header length H, then H bytes of JSON {scheme, params, resolution, depth_resolution,
+//   mode} u64      payload length P, then P bytes of the scheme's payload u64      XXH3-64 of every
+//   byte before it
 inline constexpr uint32_t kStructureFileVersion = 1;
 
 std::vector<uint8_t> encodeStructureFile(const StructureHeader& header, const Decoder& decoder);
 // Validates magic, version, checksum and header, then has the scheme validate its payload.
-std::unique_ptr<Decoder> decodeStructureFile(std::span<const uint8_t> file, StructureHeader* header);
+std::unique_ptr<Decoder> decodeStructureFile(std::span<const uint8_t> file,
+                                             StructureHeader* header);
 
 // File versions of the two above; `save` writes atomically (temporary file, then rename).
 void saveStructure(const std::filesystem::path& path, const StructureHeader& header,

@@ -50,7 +50,9 @@ SchemeInfo sm32() {
   info.name = "sm32";
   info.paper = "Williams 1978, plain float32 shadow map (baseline)";
   info.kind = SchemeKind::Depth;
-  info.buildBytes = [](const MapInfo& map, const Params&) { return map.texelCount() * sizeof(float); };
+  info.buildBytes = [](const MapInfo& map, const Params&) {
+    return map.texelCount() * sizeof(float);
+  };
   info.makeEncoder = [](const MapInfo& map, const Params&) -> std::unique_ptr<Encoder> {
     return std::make_unique<Sm32Encoder>(map);
   };

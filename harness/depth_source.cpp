@@ -1,0 +1,311 @@
+#include "harness/depth_source.h"
+
+#include "schemes/interface/morton.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <embree3/rtcore.h>
+#include <fmt/format.h>
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
+
+namespace sb {
+
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// Closed mode follows at most this many crossings per ray; a ray that has not left the union
+// of closed objects by then falls back to hi = lo.
+constexpr int kMaxCrossings = 24;
+
+// One crossing of a ray with a surface: +1 entering a closed mesh (front face), −1 leaving it
+// (back face), 0 for an open mesh.
+struct Crossing {
+  float t;
+  int8_t sign;
+  unsigned geometry;
+};
+
+// Robust traversal reports a ray through a shared edge or vertex once per triangle: the same
+// mesh, the same facing, (almost) the same t. Counted twice, one surface would unbalance the
+// front/back counter, so such reports are one crossing.
+bool sameCrossing(const Crossing& a, const Crossing& b) {
+  return a.geometry == b.geometry && a.sign == b.sign &&
+         std::abs(a.t - b.t) <= 1e-6f * std::max(std::abs(a.t), std::abs(b.t));
+}
+
+// The crossings of one ray gathered in a single traversal, the nearest kMaxCrossings kept in
+// order. At equal t an entry sorts before an exit, so that touching closed objects (a building
+// standing on the ground slab) count as one union.
+struct CrossingList {
+  Crossing nearest[kMaxCrossings];
+  int count = 0;
+  bool overflowed = false;
+
+  void insert(Crossing c) {
+    for (int k = 0; k < count; ++k)
+      if (sameCrossing(nearest[k], c)) return;
+    auto before = [](const Crossing& a, const Crossing& b) {
+      return a.t < b.t || (a.t == b.t && a.sign > b.sign);
+    };
+    if (count == kMaxCrossings) {
+      overflowed = true;
+      if (!before(c, nearest[count - 1])) return;
+      --count;
+    }
+    int at = count++;
+    while (at > 0 && before(c, nearest[at - 1])) nearest[at] = nearest[at - 1], --at;
+    nearest[at] = c;
+  }
+};
+
+// The intersect context handed to Embree: the filter finds each lane's list via the ray id.
+struct GatherContext {
+  RTCIntersectContext embree;
+  const int8_t* closedByGeometry;
+  CrossingList* lists;
+};
+
+// Records every hit and rejects it, so one traversal visits every surface along the ray.
+void gatherCrossings(const RTCFilterFunctionNArguments* args) {
+  auto* context = reinterpret_cast<const GatherContext*>(args->context);
+  for (unsigned lane = 0; lane < args->N; ++lane) {
+    if (args->valid[lane] != -1) continue;
+    const unsigned geometry = RTCHitN_geomID(args->hit, args->N, lane);
+    // Embree's geometric normal is cross(v1 − v0, v2 − v0): outward for a closed mesh.
+    const float facing =
+        RTCHitN_Ng_x(args->hit, args->N, lane) * RTCRayN_dir_x(args->ray, args->N, lane) +
+        RTCHitN_Ng_y(args->hit, args->N, lane) * RTCRayN_dir_y(args->ray, args->N, lane) +
+        RTCHitN_Ng_z(args->hit, args->N, lane) * RTCRayN_dir_z(args->ray, args->N, lane);
+    const int8_t sign = context->closedByGeometry[geometry] ? (facing < 0 ? 1 : -1) : 0;
+    context->lists[RTCRayN_id(args->ray, args->N, lane)].insert(
+        {RTCRayN_tfar(args->ray, args->N, lane), sign, geometry});
+    args->valid[lane] = 0;
+  }
+}
+
+}  // namespace
+
+struct DepthSource::Embree {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::vector<int8_t> closedByGeometry;
+
+  ~Embree() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+namespace {
+
+void throwOnEmbreeError(RTCDevice device, const char* what) {
+  const RTCError error = rtcGetDeviceError(device);
+  if (error != RTC_ERROR_NONE)
+    throw std::runtime_error(fmt::format("Embree failed while {} (error {})", what, int(error)));
+}
+
+}  // namespace
+
+DepthSource::DepthSource(const Scene& scene, const Light& light, DepthMode mode,
+                         uint32_t resolution)
+    : embree_(std::make_unique<Embree>()), light_(light), mode_(mode), resolution_(resolution) {
+  if (resolution < 8 || resolution > (1u << 20) || (resolution & (resolution - 1)) != 0)
+    throw std::invalid_argument(
+        fmt::format("resolution {} must be a power of two in [8, 2^20]", resolution));
+  embree_->device = rtcNewDevice(nullptr);
+  if (!embree_->device) throw std::runtime_error("Embree: cannot create a device");
+  embree_->scene = rtcNewScene(embree_->device);
+  // Robust traversal closes the cracks between triangles sharing an edge, which the closed
+  // mode's front/back counter depends on.
+  rtcSetSceneFlags(embree_->scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  rtcSetSceneBuildQuality(embree_->scene, RTC_BUILD_QUALITY_HIGH);
+  for (const Mesh& mesh : scene.meshes) {
+    if (mesh.triangles.empty()) continue;
+    RTCGeometry geometry = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                3 * sizeof(float), mesh.vertices.size()));
+    for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+      const glm::vec3 p(light.toView(glm::dvec3(mesh.vertices[v])));
+      vertices[3 * v + 0] = p.x, vertices[3 * v + 1] = p.y, vertices[3 * v + 2] = p.z;
+    }
+    auto* indices = static_cast<uint32_t*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(uint32_t), mesh.triangles.size()));
+    std::copy_n(&mesh.triangles[0].x, 3 * mesh.triangles.size(), indices);
+    rtcCommitGeometry(geometry);
+    const unsigned id = rtcAttachGeometry(embree_->scene, geometry);
+    rtcReleaseGeometry(geometry);
+    embree_->closedByGeometry.resize(std::max<size_t>(embree_->closedByGeometry.size(), id + 1));
+    embree_->closedByGeometry[id] = mesh.closed;
+  }
+  rtcCommitScene(embree_->scene);
+  throwOnEmbreeError(embree_->device, "building the scene");
+}
+
+DepthSource::~DepthSource() = default;
+
+DepthSource::Packet DepthSource::tracePacket(uint32_t i0, uint32_t j0) const {
+  alignas(64) int valid[kPacketSize];
+  alignas(64) RTCRayHit16 rays;
+  for (uint32_t lane = 0; lane < kPacketSize; ++lane) {
+    const PrimaryRay ray =
+        light_.texelRay(i0 + lane % kPacketWidth, j0 + lane / kPacketWidth, resolution_);
+    valid[lane] = -1;
+    rays.ray.org_x[lane] = ray.origin.x, rays.ray.org_y[lane] = ray.origin.y,
+    rays.ray.org_z[lane] = ray.origin.z;
+    rays.ray.dir_x[lane] = ray.direction.x, rays.ray.dir_y[lane] = ray.direction.y,
+    rays.ray.dir_z[lane] = ray.direction.z;
+    rays.ray.tnear[lane] = ray.tnear;
+    rays.ray.tfar[lane] = ray.tfar;
+    rays.ray.time[lane] = 0;
+    rays.ray.mask[lane] = ~0u;
+    rays.ray.id[lane] = lane;
+    rays.ray.flags[lane] = 0;
+    rays.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+    rays.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+  }
+
+  Packet packet;
+  GatherContext context;
+  rtcInitIntersectContext(&context.embree);
+  context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  if (mode_ == DepthMode::Open) {
+    // The first hit is all an open map needs: plain closest-hit traversal.
+    rtcIntersect16(valid, embree_->scene, &context.embree, &rays);
+    for (uint32_t lane = 0; lane < kPacketSize; ++lane) {
+      const bool hit = rays.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID;
+      const float lo = hit ? light_.depthOfHit(rays.ray.tfar[lane]) : 1.0f;
+      packet[lane] = {lo, hit ? lo : kInfinity};
+    }
+    return packet;
+  }
+
+  CrossingList lists[kPacketSize];
+  context.embree.filter = gatherCrossings;
+  context.closedByGeometry = embree_->closedByGeometry.data();
+  context.lists = lists;
+  rtcIntersect16(valid, embree_->scene, &context.embree, &rays);
+  for (uint32_t lane = 0; lane < kPacketSize; ++lane) {
+    const CrossingList& list = lists[lane];
+    if (list.count == 0) {
+      packet[lane] = {1.0f, kInfinity};
+      continue;
+    }
+    const float lo = light_.depthOfHit(list.nearest[0].t);
+    float hi = lo;
+    if (mode_ == DepthMode::Static) {
+      // Arvo & Hirvikorpi; Sintorn §6.1: no receiver lies between the first and second layer.
+      hi = list.count > 1 ? light_.depthOfHit(list.nearest[1].t) : kInfinity;
+    } else if (list.nearest[0].sign != 0) {
+      // Sintorn §6.1, Kämpe §3.3: undefined from the first hit until the front/back counter
+      // over closed meshes returns to zero.
+      int inside = 0;
+      bool left = false;
+      for (int c = 0; c < list.count && !left && inside >= 0; ++c) {
+        inside += list.nearest[c].sign;
+        if (inside == 0 && list.nearest[c].sign < 0) {
+          hi = light_.depthOfHit(list.nearest[c].t);
+          left = true;
+        }
+      }
+      if (!left || list.nearest[0].sign < 0) {
+        hi = lo;
+        closedFallbacks_.fetch_add(1, std::memory_order_relaxed);
+      }
+    }
+    packet[lane] = {lo, hi};
+  }
+  return packet;
+}
+
+DepthSource::Hit DepthSource::intersect(const glm::vec3& origin, const glm::vec3& direction) const {
+  RTCRayHit ray{};
+  ray.ray.org_x = origin.x, ray.ray.org_y = origin.y, ray.ray.org_z = origin.z;
+  ray.ray.dir_x = direction.x, ray.ray.dir_y = direction.y, ray.ray.dir_z = direction.z;
+  ray.ray.tnear = 0;
+  ray.ray.tfar = kInfinity;
+  ray.ray.mask = ~0u;
+  ray.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  ray.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcIntersect1(embree_->scene, &context, &ray);
+  if (ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {-1.0f, glm::vec3(0.0f)};
+  return {ray.ray.tfar, glm::vec3(ray.hit.Ng_x, ray.hit.Ng_y, ray.hit.Ng_z)};
+}
+
+DepthInterval DepthSource::texel(uint32_t i, uint32_t j) const {
+  const Packet packet = tracePacket(i - i % kPacketWidth, j - j % kPacketHeight);
+  return packet[(j % kPacketHeight) * kPacketWidth + i % kPacketWidth];
+}
+
+void DepthSource::trace(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h,
+                        DualDepthTile& tile) const {
+  if (x0 % kPacketWidth || w % kPacketWidth || y0 % kPacketHeight || h % kPacketHeight ||
+      uint64_t(x0) + w > resolution_ || uint64_t(y0) + h > resolution_)
+    throw std::invalid_argument(
+        fmt::format("tile {}x{} at ({}, {}) is not packet-aligned inside the map", w, h, x0, y0));
+  tile.resize(x0, y0, w, h);
+  for (uint32_t j0 = y0; j0 < y0 + h; j0 += kPacketHeight)
+    for (uint32_t i0 = x0; i0 < x0 + w; i0 += kPacketWidth) {
+      const Packet packet = tracePacket(i0, j0);
+      for (uint32_t lane = 0; lane < kPacketSize; ++lane) {
+        const size_t at = tile.index(i0 + lane % kPacketWidth, j0 + lane / kPacketWidth);
+        tile.lo[at] = packet[lane].lo;
+        tile.hi[at] = packet[lane].hi;
+      }
+    }
+}
+
+uint32_t defaultTileSize(uint32_t resolution) {
+  return std::min<uint32_t>(resolution, 512);
+}
+
+StreamStats streamDualDepth(const DepthSource& source, uint32_t tileSize,
+                            const std::function<void(const DualDepthTile&)>& consume,
+                            const std::function<void(uint64_t)>& progress) {
+  const uint32_t resolution = source.resolution();
+  if (tileSize < 8 || tileSize > resolution || (tileSize & (tileSize - 1)) != 0)
+    throw std::invalid_argument(
+        fmt::format("tile size {} must be a power of two in [8, {}]", tileSize, resolution));
+  const uint64_t tilesPerSide = resolution / tileSize, tileCount = tilesPerSide * tilesPerSide;
+  uint64_t next = 0, texelsDone = 0;
+  std::atomic<int64_t> traceNanoseconds{0};
+  const auto start = std::chrono::steady_clock::now();
+  const size_t tokens = size_t(2 * tbb::this_task_arena::max_concurrency());
+  tbb::parallel_pipeline(
+      tokens, tbb::make_filter<void, uint64_t>(tbb::filter_mode::serial_in_order,
+                                               [&](tbb::flow_control& control) -> uint64_t {
+                                                 if (next == tileCount) control.stop();
+                                                 return next++;
+                                               }) &
+                  tbb::make_filter<uint64_t, std::shared_ptr<DualDepthTile>>(
+                      tbb::filter_mode::parallel,
+                      [&](uint64_t morton) {
+                        const auto traceStart = std::chrono::steady_clock::now();
+                        auto tile = std::make_shared<DualDepthTile>();
+                        source.trace(mortonX(morton) * tileSize, mortonY(morton) * tileSize,
+                                     tileSize, tileSize, *tile);
+                        traceNanoseconds += std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                std::chrono::steady_clock::now() - traceStart)
+                                                .count();
+                        return tile;
+                      }) &
+                  tbb::make_filter<std::shared_ptr<DualDepthTile>, void>(
+                      tbb::filter_mode::serial_in_order, [&](std::shared_ptr<DualDepthTile> tile) {
+                        consume(*tile);
+                        texelsDone += uint64_t(tile->width) * tile->height;
+                        if (progress) progress(texelsDone);
+                      }));
+  const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - start;
+  return {double(traceNanoseconds.load()) * 1e-9, wall.count()};
+}
+
+}  // namespace sb

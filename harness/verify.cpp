@@ -1,0 +1,205 @@
+#include "harness/verify.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <mutex>
+
+#include <tbb/parallel_for.h>
+#include <nlohmann/json.hpp>
+
+namespace sb {
+
+namespace {
+
+// Windows are checked in their core; the halo holds the taps of a 17×17 PCF around it.
+constexpr int64_t kCore = 64, kHalo = 8;
+constexpr size_t kMaxExamples = 16;
+
+uint64_t mix(uint64_t x) {  // SplitMix64's finaliser: a seeded hash of texel coordinates
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+float unit(uint64_t h) {
+  return float(h >> 40) * 0x1.0p-24f;
+}
+
+// A position inside texel (i, j), jittered so that schemes are tested off the texel centre.
+float insideTexel(int64_t i, float jitter, uint32_t resolution) {
+  const float x = float((double(i) + jitter) / resolution);
+  return texelOf(x, resolution) == i ? x : float((double(i) + 0.5) / resolution);
+}
+
+// The depths at which a texel's answer changes or must hold (DESIGN §4 / issue: lo, the next
+// float below lo, hi, the next float above hi, a point inside the band, 0 and 1).
+int probeDepths(DepthInterval in, float out[7]) {
+  int n = 0;
+  out[n++] = in.lo;
+  out[n++] = std::nextafter(in.lo, -1.0f);
+  out[n++] = 0.0f;
+  out[n++] = 1.0f;
+  out[n++] = in.lo + (std::min(in.hi, 1.0f) - in.lo) * 0.5f;
+  if (std::isfinite(in.hi)) {
+    out[n++] = in.hi;
+    out[n++] = std::nextafter(in.hi, 2.0f);
+  }
+  return n;
+}
+
+// A texel on a shadow boundary: a 4-neighbour's first hit is far from its own.
+bool onBoundary(const ReferenceWindow& window, int64_t i, int64_t j) {
+  const float lo = window.at(i, j).lo;
+  const int64_t di[] = {1, -1, 0, 0}, dj[] = {0, 0, 1, -1};
+  for (int n = 0; n < 4; ++n)
+    if (window.contains(i + di[n], j + dj[n]) &&
+        std::abs(window.at(i + di[n], j + dj[n]).lo - lo) > 1.0f / 1024)
+      return true;
+  return false;
+}
+
+struct Checker {
+  Checker(const Decoder& d, SchemeKind k, const MapInfo& m) : decoder(d), kind(k), map(m) {}
+
+  const Decoder& decoder;
+  SchemeKind kind;
+  const MapInfo& map;
+  std::atomic<uint64_t> queries{0}, mismatches{0};
+  std::mutex examplesLock;
+  std::vector<Mismatch> examples;
+
+  // Queries and their reference ranges for one filter size, looked up in one batch.
+  struct Batch {
+    std::vector<Query> queries;
+    std::vector<VisibilityRange> expected;
+  };
+
+  void run(Batch& batch, int k) {
+    std::vector<float> got(batch.queries.size());
+    decoder.lookup(batch.queries, k, got);
+    uint64_t wrong = 0;
+    for (size_t q = 0; q < got.size(); ++q) {
+      if (batch.expected[q].contains(got[q])) continue;
+      ++wrong;
+      std::lock_guard lock(examplesLock);
+      if (examples.size() < kMaxExamples)
+        examples.push_back({batch.queries[q], k, got[q], batch.expected[q]});
+    }
+    queries += got.size();
+    mismatches += wrong;
+  }
+
+  // Checks the texels of the window's core selected by `select(i, j)`; `pcfEvery` picks the
+  // texels that also get PCF lookups.
+  template <class Select, class PcfSelect>
+  void checkWindow(const ReferenceWindow& window, int64_t cx, int64_t cy, Select select,
+                   PcfSelect pcf, uint64_t seed) {
+    static constexpr int kFilters[] = {1, 3, 5, 9, 17};
+    Batch batches[std::size(kFilters)];
+    const int64_t x1 = std::min<int64_t>(cx + kCore, map.resolution);
+    const int64_t y1 = std::min<int64_t>(cy + kCore, map.resolution);
+    for (int64_t j = cy; j < y1; ++j)
+      for (int64_t i = cx; i < x1; ++i) {
+        if (!select(i, j)) continue;
+        const uint64_t h = mix(seed ^ mix(uint64_t(i) << 32 | uint64_t(j)));
+        const Query at{insideTexel(i, unit(h), map.resolution),
+                       insideTexel(j, unit(mix(h)), map.resolution), 0};
+        float depths[7];
+        const int n = probeDepths(window.at(i, j), depths);
+        for (int d = 0; d < n; ++d) {
+          const float z = testedDepth(kind, map, depths[d]);
+          const PointAnswer answer = pointTest(window.at(i, j), z);
+          batches[0].queries.push_back({at.x, at.y, depths[d]});
+          batches[0].expected.push_back(answer == PointAnswer::Lit        ? VisibilityRange{1, 1}
+                                        : answer == PointAnswer::Shadowed ? VisibilityRange{0, 0}
+                                                                          : VisibilityRange{0, 1});
+        }
+        for (size_t f = 1; f < std::size(kFilters); ++f) {
+          if (!pcf(h, kFilters[f])) continue;
+          // PCF at the texel's own surface, just behind it, and at a random depth.
+          const float pcfDepths[] = {depths[0], depths[n - 1], unit(mix(h ^ kFilters[f]))};
+          for (float z : pcfDepths) {
+            batches[f].queries.push_back({at.x, at.y, z});
+            batches[f].expected.push_back(
+                window.pcf(i, j, kFilters[f], testedDepth(kind, map, z), map.resolution));
+          }
+        }
+      }
+    for (size_t f = 0; f < std::size(kFilters); ++f)
+      if (!batches[f].queries.empty()) run(batches[f], kFilters[f]);
+  }
+};
+
+ReferenceWindow windowAround(const DepthSource& source, int64_t cx, int64_t cy) {
+  return ReferenceWindow(source, cx - kHalo, cy - kHalo, kCore + 2 * kHalo, kCore + 2 * kHalo);
+}
+
+}  // namespace
+
+nlohmann::json VerifyReport::toJson() const {
+  nlohmann::json list = nlohmann::json::array();
+  for (const Mismatch& m : examples)
+    list.push_back({{"x", m.query.x},
+                    {"y", m.query.y},
+                    {"z", m.query.z},
+                    {"k", m.k},
+                    {"got", m.got},
+                    {"expected", {m.expected.min, m.expected.max}}});
+  return {{"method", method}, {"queries", queries}, {"mismatches", mismatches}, {"examples", list}};
+}
+
+VerifyReport verify(const Decoder& decoder, SchemeKind kind, const MapInfo& map,
+                    const DepthSource& source, const VerifyOptions& options,
+                    const std::function<void(uint64_t)>& progress) {
+  Checker checker{decoder, kind, map};
+  VerifyReport report;
+  const int64_t windowsPerSide = (int64_t(map.resolution) + kCore - 1) / kCore;
+  std::mutex progressLock;
+  auto reportProgress = [&] {
+    if (!progress) return;
+    std::lock_guard lock(progressLock);
+    progress(checker.queries.load());
+  };
+
+  if (map.resolution <= options.exhaustiveUpTo) {
+    report.method = "exhaustive";
+    tbb::parallel_for(int64_t(0), windowsPerSide * windowsPerSide, [&](int64_t w) {
+      const int64_t cx = (w % windowsPerSide) * kCore, cy = (w / windowsPerSide) * kCore;
+      const ReferenceWindow window = windowAround(source, cx, cy);
+      checker.checkWindow(
+          window, cx, cy, [](int64_t, int64_t) { return true; },
+          [](uint64_t h, int k) { return (h >> 8) % (k <= 9 ? 8 : 64) == 0; }, options.seed);
+      reportProgress();
+    });
+  } else {
+    report.method = "sampled";
+    // Random windows until enough queries: every boundary texel of a window with PCF, and a
+    // uniform sixteenth of the others.
+    std::atomic<uint64_t> round{0};
+    while (checker.queries.load() < options.sampledQueries) {
+      const uint64_t first = round.fetch_add(64);
+      tbb::parallel_for(first, first + 64, [&](uint64_t n) {
+        const uint64_t h = mix(options.seed ^ mix(n));
+        const int64_t cx = int64_t(h % uint64_t(windowsPerSide)) * kCore;
+        const int64_t cy = int64_t((h >> 32) % uint64_t(windowsPerSide)) * kCore;
+        const ReferenceWindow window = windowAround(source, cx, cy);
+        checker.checkWindow(
+            window, cx, cy,
+            [&](int64_t i, int64_t j) {
+              return onBoundary(window, i, j) ||
+                     mix(h ^ (uint64_t(i) << 32 | uint64_t(j))) % 16 == 0;
+            },
+            [](uint64_t hh, int k) { return (hh >> 8) % (k <= 9 ? 2 : 8) == 0; }, h);
+        reportProgress();
+      });
+    }
+  }
+  report.queries = checker.queries;
+  report.mismatches = checker.mismatches;
+  report.examples = std::move(checker.examples);
+  return report;
+}
+
+}  // namespace sb

@@ -1,0 +1,55 @@
+// The correctness matrix in CI: every registered scheme, on every generator scene at its
+// default size, in every mode, checked against the reference exhaustively at small
+// resolutions and by sampling at a larger one. A scheme added to the registry is picked up
+// here with no edit.
+#include <fmt/format.h>
+#include <catch2/catch.hpp>
+
+#include "harness/build.h"
+#include "harness/cell.h"
+#include "harness/verify.h"
+#include "scenes/scene.h"
+
+using namespace sb;
+
+namespace {
+
+const Scene& cachedScene(const std::string& name) {
+  static std::map<std::string, Scene> scenes;
+  auto it = scenes.find(name);
+  if (it == scenes.end()) it = scenes.emplace(name, openScene(name)).first;
+  return it->second;
+}
+
+void checkCell(const SchemeInfo& scheme, const std::string& sceneName, DepthMode mode,
+               uint32_t resolution, const VerifyOptions& options) {
+  const Scene& scene = cachedScene(sceneName);
+  const DepthSource source(scene, sceneLight(scene, 0), mode, resolution);
+  const BuildOutcome built = buildStructure(source, scheme, {}, defaultTileSize(resolution) / 2);
+  const VerifyReport report = verify(*built.decoder, scheme.kind, built.map, source, options);
+  INFO(fmt::format("{} on {} ({}, {}²): {} of {} queries wrong", scheme.name, sceneName,
+                   toString(mode), resolution, report.mismatches, report.queries));
+  for (const Mismatch& m : report.examples)
+    INFO(fmt::format("  x={} y={} z={} k={} got {} expected [{}, {}]", m.query.x, m.query.y,
+                     m.query.z, m.k, m.got, m.expected.min, m.expected.max));
+  CHECK(report.queries > 0);
+  CHECK(report.mismatches == 0);
+}
+
+}  // namespace
+
+TEST_CASE("every scheme is lossless on every scene and mode", "[matrix]") {
+  const auto sceneName = GENERATE(as<std::string>{}, "city", "terrain", "forest", "tangle");
+  const DepthMode mode = GENERATE(DepthMode::Open, DepthMode::Closed, DepthMode::Static);
+  for (const SchemeInfo& scheme : schemes()) {
+    SECTION(scheme.name + " exhaustive") {
+      for (uint32_t resolution : {64u, 256u}) checkCell(scheme, sceneName, mode, resolution, {});
+    }
+    SECTION(scheme.name + " sampled") {
+      VerifyOptions sampled;
+      sampled.exhaustiveUpTo = 256;
+      sampled.sampledQueries = 200'000;
+      checkCell(scheme, sceneName, mode, 1024, sampled);
+    }
+  }
+}

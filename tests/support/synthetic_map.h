@@ -1,0 +1,91 @@
+// A seeded random dual depth map held whole in memory, for tests of schemes and file formats
+// that need no ray casting: plateaus of shared depth (like roofs), noisy slopes, empty texels,
+// and intervals of every kind the modes produce (points, bands, open-ended bands).
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "schemes/interface/morton.h"
+#include "schemes/interface/scheme.h"
+
+namespace sb::testing {
+
+class NullBuildContext final : public BuildContext {
+ public:
+  void phase(std::string_view) override {}
+  void count(std::string_view, uint64_t) override {}
+};
+
+struct SyntheticMap {
+  uint32_t resolution = 0;
+  DepthMode mode = DepthMode::Open;
+  std::vector<float> lo, hi;
+
+  static SyntheticMap random(uint32_t resolution, DepthMode mode, uint64_t seed) {
+    SyntheticMap map{resolution, mode, {}, {}};
+    map.lo.resize(size_t(resolution) * resolution);
+    map.hi.resize(map.lo.size());
+    uint64_t state = seed;
+    auto next = [&] {
+      uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+      z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+      return z ^ (z >> 31);
+    };
+    auto unit = [&] { return float(next() >> 40) * 0x1.0p-24f; };
+    const uint32_t block = std::max(1u, resolution / 8);
+    std::vector<float> plateau(64), slope(64);
+    for (size_t b = 0; b < 64; ++b) plateau[b] = unit() * 0.9f, slope[b] = (unit() - 0.5f) * 0.01f;
+    for (uint32_t j = 0; j < resolution; ++j)
+      for (uint32_t i = 0; i < resolution; ++i) {
+        const size_t b = size_t(j / block % 8) * 8 + i / block % 8;
+        const size_t at = size_t(j) * resolution + i;
+        const uint64_t kind = next() % 16;
+        float l = kind < 10 ? plateau[b]
+                            : std::clamp(plateau[b] + slope[b] * float(i % block), 0.0f, 0.99f);
+        if (kind == 15) l = 1.0f;  // the ray hit nothing
+        float h = l;
+        if (l == 1.0f)
+          h = std::numeric_limits<float>::infinity();
+        else if (mode != DepthMode::Open)
+          h = kind % 4 == 0 ? std::numeric_limits<float>::infinity()
+                            : std::min(1.0f, l + unit() * 0.2f);
+        map.lo[at] = l, map.hi[at] = h;
+      }
+    return map;
+  }
+
+  MapInfo info(SchemeKind kind) const {
+    return {resolution, kind == SchemeKind::Voxel ? resolution : 0u, mode};
+  }
+
+  // Square tiles in Morton order, as the harness streams them.
+  template <class F>
+  void stream(uint32_t tileSize, F&& consume) const {
+    const uint32_t perSide = resolution / tileSize;
+    DualDepthTile tile;
+    for (uint64_t m = 0; m < uint64_t(perSide) * perSide; ++m) {
+      tile.resize(mortonX(m) * tileSize, mortonY(m) * tileSize, tileSize, tileSize);
+      for (uint32_t j = 0; j < tileSize; ++j)
+        for (uint32_t i = 0; i < tileSize; ++i) {
+          const size_t at = size_t(tile.y0 + j) * resolution + tile.x0 + i;
+          tile.lo[size_t(j) * tileSize + i] = lo[at];
+          tile.hi[size_t(j) * tileSize + i] = hi[at];
+        }
+      consume(tile);
+    }
+  }
+
+  std::unique_ptr<Decoder> build(const SchemeInfo& scheme, const Params& params,
+                                 uint32_t tileSize) const {
+    NullBuildContext context;
+    auto encoder = scheme.makeEncoder(info(scheme.kind), scheme.resolve(params));
+    stream(tileSize, [&](const DualDepthTile& tile) { encoder->consume(tile, context); });
+    return encoder->finish(context);
+  }
+};
+
+}  // namespace sb::testing
