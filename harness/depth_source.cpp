@@ -1,7 +1,5 @@
 #include "harness/depth_source.h"
 
-#include "schemes/interface/morton.h"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -13,60 +11,20 @@
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
+#include "harness/crossings.h"
+#include "harness/light_space_rasterizer.h"
+#include "schemes/interface/morton.h"
+
 namespace sb {
 
 namespace {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
-// Closed mode follows at most this many crossings per ray; a ray that has not left the union
-// of closed objects by then falls back to hi = lo.
-constexpr int kMaxCrossings = 24;
-
-// One crossing of a ray with a surface: +1 entering a closed mesh (front face), −1 leaving it
-// (back face), 0 for an open mesh.
-struct Crossing {
-  float t;
-  int8_t sign;
-  unsigned geometry;
-};
-
-// Robust traversal reports a ray through a shared edge or vertex once per triangle: the same
-// mesh, the same facing, (almost) the same t. Counted twice, one surface would unbalance the
-// front/back counter, so such reports are one crossing.
-bool sameCrossing(const Crossing& a, const Crossing& b) {
-  return a.geometry == b.geometry && a.sign == b.sign &&
-         std::abs(a.t - b.t) <= 1e-6f * std::max(std::abs(a.t), std::abs(b.t));
-}
-
-// The crossings of one ray gathered in a single traversal, the nearest kMaxCrossings kept in
-// order. At equal t an entry sorts before an exit, so that touching closed objects (a building
-// standing on the ground slab) count as one union.
-struct CrossingList {
-  Crossing nearest[kMaxCrossings];
-  int count = 0;
-  bool overflowed = false;
-
-  void insert(Crossing c) {
-    for (int k = 0; k < count; ++k)
-      if (sameCrossing(nearest[k], c)) return;
-    auto before = [](const Crossing& a, const Crossing& b) {
-      return a.t < b.t || (a.t == b.t && a.sign > b.sign);
-    };
-    if (count == kMaxCrossings) {
-      overflowed = true;
-      if (!before(c, nearest[count - 1])) return;
-      --count;
-    }
-    int at = count++;
-    while (at > 0 && before(c, nearest[at - 1])) nearest[at] = nearest[at - 1], --at;
-    nearest[at] = c;
-  }
-};
-
 // The intersect context handed to Embree: the filter finds each lane's list via the ray id.
 struct GatherContext {
   RTCIntersectContext embree;
+  const Light* light;
   const int8_t* closedByGeometry;
   CrossingList* lists;
 };
@@ -83,8 +41,8 @@ void gatherCrossings(const RTCFilterFunctionNArguments* args) {
         RTCHitN_Ng_y(args->hit, args->N, lane) * RTCRayN_dir_y(args->ray, args->N, lane) +
         RTCHitN_Ng_z(args->hit, args->N, lane) * RTCRayN_dir_z(args->ray, args->N, lane);
     const int8_t sign = context->closedByGeometry[geometry] ? (facing < 0 ? 1 : -1) : 0;
-    context->lists[RTCRayN_id(args->ray, args->N, lane)].insert(
-        {RTCRayN_tfar(args->ray, args->N, lane), sign, geometry});
+    context->lists[RTCRayN_id(args->ray, args->N, lane)].insertOnce(
+        {context->light->depthOfHit(RTCRayN_tfar(args->ray, args->N, lane)), sign, geometry});
     args->valid[lane] = 0;
   }
 }
@@ -112,8 +70,12 @@ void throwOnEmbreeError(RTCDevice device, const char* what) {
 
 }  // namespace
 
+std::string_view toString(DepthMethod method) {
+  return method == DepthMethod::Rasterize ? "rasterize" : "raycast";
+}
+
 DepthSource::DepthSource(const Scene& scene, const Light& light, DepthMode mode,
-                         uint32_t resolution)
+                         uint32_t resolution, DepthMethod method)
     : embree_(std::make_unique<Embree>()), light_(light), mode_(mode), resolution_(resolution) {
   if (resolution < 8 || resolution > (1u << 20) || (resolution & (resolution - 1)) != 0)
     throw std::invalid_argument(
@@ -147,11 +109,22 @@ DepthSource::DepthSource(const Scene& scene, const Light& light, DepthMode mode,
   }
   rtcCommitScene(embree_->scene);
   throwOnEmbreeError(embree_->device, "building the scene");
+  if (method == DepthMethod::Rasterize && light.kind() == LightKind::Directional)
+    rasterizer_ = std::make_unique<LightSpaceRasterizer>(scene, light, resolution);
 }
 
 DepthSource::~DepthSource() = default;
 
 DepthSource::Packet DepthSource::tracePacket(uint32_t i0, uint32_t j0) const {
+  Packet packet;
+  if (rasterizer_) {
+    float lo[kPacketSize], hi[kPacketSize];
+    const uint64_t fallbacks =
+        rasterizer_->rasterize(i0, j0, kPacketWidth, kPacketHeight, mode_, lo, hi, kPacketWidth);
+    if (fallbacks) closedFallbacks_.fetch_add(fallbacks, std::memory_order_relaxed);
+    for (uint32_t lane = 0; lane < kPacketSize; ++lane) packet[lane] = {lo[lane], hi[lane]};
+    return packet;
+  }
   alignas(64) int valid[kPacketSize];
   alignas(64) RTCRayHit16 rays;
   for (uint32_t lane = 0; lane < kPacketSize; ++lane) {
@@ -172,7 +145,6 @@ DepthSource::Packet DepthSource::tracePacket(uint32_t i0, uint32_t j0) const {
     rays.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
   }
 
-  Packet packet;
   GatherContext context;
   rtcInitIntersectContext(&context.embree);
   context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -189,39 +161,17 @@ DepthSource::Packet DepthSource::tracePacket(uint32_t i0, uint32_t j0) const {
 
   CrossingList lists[kPacketSize];
   context.embree.filter = gatherCrossings;
+  context.light = &light_;
   context.closedByGeometry = embree_->closedByGeometry.data();
   context.lists = lists;
   rtcIntersect16(valid, embree_->scene, &context.embree, &rays);
+  uint64_t fallbacks = 0;
   for (uint32_t lane = 0; lane < kPacketSize; ++lane) {
-    const CrossingList& list = lists[lane];
-    if (list.count == 0) {
-      packet[lane] = {1.0f, kInfinity};
-      continue;
-    }
-    const float lo = light_.depthOfHit(list.nearest[0].t);
-    float hi = lo;
-    if (mode_ == DepthMode::Static) {
-      // Arvo & Hirvikorpi; Sintorn §6.1: no receiver lies between the first and second layer.
-      hi = list.count > 1 ? light_.depthOfHit(list.nearest[1].t) : kInfinity;
-    } else if (list.nearest[0].sign != 0) {
-      // Sintorn §6.1, Kämpe §3.3: undefined from the first hit until the front/back counter
-      // over closed meshes returns to zero.
-      int inside = 0;
-      bool left = false;
-      for (int c = 0; c < list.count && !left && inside >= 0; ++c) {
-        inside += list.nearest[c].sign;
-        if (inside == 0 && list.nearest[c].sign < 0) {
-          hi = light_.depthOfHit(list.nearest[c].t);
-          left = true;
-        }
-      }
-      if (!left || list.nearest[0].sign < 0) {
-        hi = lo;
-        closedFallbacks_.fetch_add(1, std::memory_order_relaxed);
-      }
-    }
-    packet[lane] = {lo, hi};
+    const ResolvedInterval resolved = resolveCrossings(lists[lane], mode_);
+    packet[lane] = {resolved.lo, resolved.hi};
+    fallbacks += resolved.closedFallback;
   }
+  if (fallbacks) closedFallbacks_.fetch_add(fallbacks, std::memory_order_relaxed);
   return packet;
 }
 
@@ -253,6 +203,12 @@ void DepthSource::trace(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h,
     throw std::invalid_argument(
         fmt::format("tile {}x{} at ({}, {}) is not packet-aligned inside the map", w, h, x0, y0));
   tile.resize(x0, y0, w, h);
+  if (rasterizer_) {
+    const uint64_t fallbacks =
+        rasterizer_->rasterize(x0, y0, w, h, mode_, tile.lo.data(), tile.hi.data(), w);
+    if (fallbacks) closedFallbacks_.fetch_add(fallbacks, std::memory_order_relaxed);
+    return;
+  }
   for (uint32_t j0 = y0; j0 < y0 + h; j0 += kPacketHeight)
     for (uint32_t i0 = x0; i0 < x0 + w; i0 += kPacketWidth) {
       const Packet packet = tracePacket(i0, j0);

@@ -1,9 +1,10 @@
 // The dual depth map (DESIGN §3): for every texel an interval [lo, hi], ray cast with Embree in
 // the light's view space, produced tile by tile.
 //
-// Rays are traced in packets of 4×4 texels aligned to absolute texel coordinates, and a texel's
-// interval is computed only from its own packet: so it is the same float whatever the tile
-// size, tile order or thread count, and the reference re-traces exactly the same packet.
+// Texels are computed in packets of 4×4 aligned to absolute texel coordinates, and a texel's
+// interval depends only on its own packet (ray casting) or its own bin of triangles
+// (rasterising): so it is the same float whatever the tile size, tile order or thread count,
+// and the reference re-computes exactly the same packet.
 #pragma once
 
 #include <array>
@@ -13,6 +14,7 @@
 #include <memory>
 
 #include "harness/light.h"
+#include "harness/light_space_rasterizer.h"
 #include "scenes/scene.h"
 #include "schemes/interface/scheme.h"
 
@@ -22,19 +24,27 @@ struct DepthInterval {
   float lo, hi;
 };
 
+// How the map is computed. Directional lights rasterise in light space by default (exact
+// coverage, several times faster); ray casting with Embree serves spot lights and is the
+// independent check.
+enum class DepthMethod { Rasterize, RayCast };
+std::string_view toString(DepthMethod method);
+
 class DepthSource {
  public:
   static constexpr uint32_t kPacketWidth = 4, kPacketHeight = 4;
   static constexpr uint32_t kPacketSize = kPacketWidth * kPacketHeight;
   using Packet = std::array<DepthInterval, kPacketSize>;
 
-  // R must be a power of two in [8, 2^20].
-  DepthSource(const Scene& scene, const Light& light, DepthMode mode, uint32_t resolution);
+  // R must be a power of two in [8, 2^20]. Rasterize falls back to RayCast for spot lights.
+  DepthSource(const Scene& scene, const Light& light, DepthMode mode, uint32_t resolution,
+              DepthMethod method = DepthMethod::Rasterize);
   ~DepthSource();
   DepthSource(const DepthSource&) = delete;
   DepthSource& operator=(const DepthSource&) = delete;
 
   DepthMode mode() const { return mode_; }
+  DepthMethod method() const { return rasterizer_ ? DepthMethod::Rasterize : DepthMethod::RayCast; }
   uint32_t resolution() const { return resolution_; }
   const Light& light() const { return light_; }
 
@@ -61,6 +71,7 @@ class DepthSource {
  private:
   struct Embree;
   std::unique_ptr<Embree> embree_;
+  std::unique_ptr<LightSpaceRasterizer> rasterizer_;
   Light light_;
   DepthMode mode_;
   uint32_t resolution_;

@@ -1,0 +1,211 @@
+#include "harness/light_space_rasterizer.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "harness/crossings.h"
+
+namespace sb {
+
+namespace {
+
+// Light space [0, 1) in units of 2^-28: fine enough for 2^20 texels per side with 2^7
+// sub-texel steps, and coarse enough that edge functions of differences below 2^29 stay
+// exact in 64-bit integers.
+constexpr int kFixedBits = 28;
+constexpr double kFixedScale = double(1 << kFixedBits);
+
+// The edge function of a→b at p: twice the signed area of (a, b, p), positive when p lies to
+// the left of a→b.
+inline int64_t edge(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t px, int64_t py) {
+  return (bx - ax) * (py - ay) - (by - ay) * (px - ax);
+}
+
+// The top-left rule for a counter-clockwise triangle: a point exactly on an edge belongs to
+// it only when the edge runs downwards, or leftwards along a horizontal line. Of two triangles
+// sharing an edge, which they run in opposite directions, exactly one owns it.
+inline bool ownsEdge(int64_t dx, int64_t dy) {
+  return dy < 0 || (dy == 0 && dx < 0);
+}
+
+// Integer division rounding down and up, for a positive divisor.
+inline int64_t floorDiv(int64_t a, int64_t b) {
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+inline int64_t ceilDiv(int64_t a, int64_t b) {
+  return -floorDiv(-a, b);
+}
+
+}  // namespace
+
+LightSpaceRasterizer::LightSpaceRasterizer(const Scene& scene, const Light& light,
+                                           uint32_t resolution)
+    : resolution_(resolution) {
+  if (light.kind() != LightKind::Directional)
+    throw std::invalid_argument("the light-space rasteriser handles directional lights only");
+  if (resolution < 8 || resolution > (1u << 20) || !std::has_single_bit(resolution))
+    throw std::invalid_argument(
+        fmt::format("resolution {} must be a power of two in [8, 2^20]", resolution));
+  halfTexel_ = int64_t(1) << (kFixedBits - 1 - std::countr_zero(resolution));
+  binsPerSide_ = std::clamp<uint32_t>(resolution / 32, 1, 256);
+  texelsPerBin_ = resolution / binsPerSide_;
+
+  // The texel centres (2i + 1)·h that lie within [lo, hi].
+  auto centresWithin = [&](int64_t lo, int64_t hi, int32_t& first, int32_t& last) {
+    const int64_t h = halfTexel_;
+    first = int32_t(std::max<int64_t>(0, lo <= h ? 0 : (lo - h + 2 * h - 1) / (2 * h)));
+    last = int32_t(std::min<int64_t>(resolution - 1, hi < h ? -1 : (hi - h) / (2 * h)));
+  };
+
+  for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    std::vector<glm::dvec3> lightSpace(mesh.vertices.size());
+    for (size_t v = 0; v < mesh.vertices.size(); ++v)
+      lightSpace[v] = light.toView(glm::dvec3(mesh.vertices[v]));
+    for (const glm::uvec3& index : mesh.triangles) {
+      FixedTriangle t{};
+      for (int k = 0; k < 3; ++k) {
+        const glm::dvec3& p = lightSpace[index[k]];
+        t.x[k] = int32_t(std::llround(p.x * kFixedScale));
+        t.y[k] = int32_t(std::llround(p.y * kFixedScale));
+        t.z[k] = float(p.z);
+      }
+      const int64_t area = edge(t.x[0], t.y[0], t.x[1], t.y[1], t.x[2], t.y[2]);
+      if (area == 0) continue;  // edge-on to the light: its neighbours cover its line
+      // Rays run along +z: a face whose normal cross(b − a, c − a) points against them (area <
+      // 0) is a front face, entered by the ray.
+      t.sign = mesh.closed ? (area < 0 ? 1 : -1) : 0;
+      t.mesh = m;
+      if (area < 0) std::swap(t.x[1], t.x[2]), std::swap(t.y[1], t.y[2]), std::swap(t.z[1], t.z[2]);
+      centresWithin(*std::min_element(t.x, t.x + 3), *std::max_element(t.x, t.x + 3), t.texelMin[0],
+                    t.texelMax[0]);
+      centresWithin(*std::min_element(t.y, t.y + 3), *std::max_element(t.y, t.y + 3), t.texelMin[1],
+                    t.texelMax[1]);
+      if (t.texelMin[0] > t.texelMax[0] || t.texelMin[1] > t.texelMax[1])
+        continue;  // between centres
+      triangles_.push_back(t);
+    }
+  }
+
+  // Bin the triangles by the texel centres their bounding boxes hold: count, then fill.
+  binStart_.assign(size_t(binsPerSide_) * binsPerSide_ + 1, 0);
+  auto forEachBin = [&](const FixedTriangle& t, auto&& f) {
+    for (uint32_t by = t.texelMin[1] / texelsPerBin_; by <= t.texelMax[1] / texelsPerBin_; ++by)
+      for (uint32_t bx = t.texelMin[0] / texelsPerBin_; bx <= t.texelMax[0] / texelsPerBin_; ++bx)
+        f(size_t(by) * binsPerSide_ + bx);
+  };
+  for (const FixedTriangle& t : triangles_)
+    forEachBin(t, [&](size_t bin) { ++binStart_[bin + 1]; });
+  for (size_t b = 1; b < binStart_.size(); ++b) binStart_[b] += binStart_[b - 1];
+  binTriangles_.resize(binStart_.back());
+  std::vector<uint32_t> fill(binStart_.begin(), binStart_.end() - 1);
+  for (uint32_t index = 0; index < triangles_.size(); ++index)
+    forEachBin(triangles_[index], [&](size_t bin) { binTriangles_[fill[bin]++] = index; });
+}
+
+template <class Visit>
+void LightSpaceRasterizer::coverTexels(const FixedTriangle& t, int64_t i0, int64_t i1, int64_t j0,
+                                       int64_t j1, Visit&& visit) const {
+  i0 = std::max<int64_t>(i0, t.texelMin[0]), i1 = std::min<int64_t>(i1, t.texelMax[0]);
+  j0 = std::max<int64_t>(j0, t.texelMin[1]), j1 = std::min<int64_t>(j1, t.texelMax[1]);
+  if (i0 > i1 || j0 > j1) return;
+  const int64_t step = 2 * halfTexel_;
+  const int64_t px = (2 * i0 + 1) * halfTexel_, py = (2 * j0 + 1) * halfTexel_;
+  // Edge k runs from vertex k+1 to vertex k+2, opposite vertex k: its function is vertex k's
+  // barycentric weight times twice the area.
+  int64_t rowStart[3], dxStep[3], dyStep[3];
+  bool owned[3];
+  for (int k = 0; k < 3; ++k) {
+    const int a = (k + 1) % 3, b = (k + 2) % 3;
+    const int64_t dx = int64_t(t.x[b]) - t.x[a], dy = int64_t(t.y[b]) - t.y[a];
+    rowStart[k] = edge(t.x[a], t.y[a], t.x[b], t.y[b], px, py);
+    dxStep[k] = -dy * step;
+    dyStep[k] = dx * step;
+    owned[k] = ownsEdge(dx, dy);
+  }
+  const double inverseArea = 1.0 / double(rowStart[0] + rowStart[1] + rowStart[2]);
+  const float zMin = std::min({t.z[0], t.z[1], t.z[2]}), zMax = std::max({t.z[0], t.z[1], t.z[2]});
+  for (int64_t j = j0; j <= j1; ++j) {
+    // The span of the row inside all three edges, solved exactly: w_k + n·step_k ≥ threshold_k.
+    int64_t first = 0, last = i1 - i0;
+    for (int k = 0; k < 3; ++k) {
+      const int64_t need = owned[k] ? 0 : 1;
+      if (dxStep[k] > 0)
+        first = std::max(first, ceilDiv(need - rowStart[k], dxStep[k]));
+      else if (dxStep[k] < 0)
+        last = std::min(last, floorDiv(rowStart[k] - need, -dxStep[k]));
+      else if (rowStart[k] < need)
+        last = -1;
+    }
+    for (int64_t n = first; n <= last; ++n) {
+      const double z = (double(rowStart[0] + n * dxStep[0]) * t.z[0] +
+                        double(rowStart[1] + n * dxStep[1]) * t.z[1] +
+                        double(rowStart[2] + n * dxStep[2]) * t.z[2]) *
+                       inverseArea;
+      visit(i0 + n, j, std::clamp(float(z), zMin, zMax));
+    }
+    for (int k = 0; k < 3; ++k) rowStart[k] += dyStep[k];
+  }
+}
+
+uint64_t LightSpaceRasterizer::rasterize(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h,
+                                         DepthMode mode, float* lo, float* hi,
+                                         size_t stride) const {
+  constexpr float kInfinity = std::numeric_limits<float>::infinity();
+  constexpr uint32_t kBlock = 32;  // texels per side resolved together: their lists stay in cache
+  uint64_t fallbacks = 0;
+  std::vector<float> nearest;
+  std::vector<CrossingList> lists;
+  for (uint32_t by = y0; by < y0 + h; by += kBlock)
+    for (uint32_t bx = x0; bx < x0 + w; bx += kBlock) {
+      const uint32_t bw = std::min(kBlock, x0 + w - bx), bh = std::min(kBlock, y0 + h - by);
+      if (mode == DepthMode::Open) {
+        nearest.assign(size_t(bw) * bh, kInfinity);
+      } else {
+        lists.resize(size_t(bw) * bh);
+        for (CrossingList& list : lists) list.count = 0;  // no need to clear the entries
+      }
+      // Each texel centre lies in exactly one bin, so it meets each triangle once, in bin order.
+      for (uint32_t binY = by / texelsPerBin_; binY <= (by + bh - 1) / texelsPerBin_; ++binY)
+        for (uint32_t binX = bx / texelsPerBin_; binX <= (bx + bw - 1) / texelsPerBin_; ++binX) {
+          const int64_t i0 = std::max(bx, binX * texelsPerBin_),
+                        i1 = std::min(bx + bw, (binX + 1) * texelsPerBin_) - 1;
+          const int64_t j0 = std::max(by, binY * texelsPerBin_),
+                        j1 = std::min(by + bh, (binY + 1) * texelsPerBin_) - 1;
+          const size_t bin = size_t(binY) * binsPerSide_ + binX;
+          for (uint32_t n = binStart_[bin]; n < binStart_[bin + 1]; ++n) {
+            const FixedTriangle& t = triangles_[binTriangles_[n]];
+            if (mode == DepthMode::Open)
+              coverTexels(t, i0, i1, j0, j1, [&](int64_t i, int64_t j, float z) {
+                float& near = nearest[size_t(j - by) * bw + (i - bx)];
+                near = std::min(near, z);
+              });
+            else
+              coverTexels(t, i0, i1, j0, j1, [&](int64_t i, int64_t j, float z) {
+                lists[size_t(j - by) * bw + (i - bx)].insert({z, t.sign, t.mesh});
+              });
+          }
+        }
+      for (uint32_t j = 0; j < bh; ++j)
+        for (uint32_t i = 0; i < bw; ++i) {
+          const size_t out = size_t(by - y0 + j) * stride + (bx - x0 + i);
+          if (mode == DepthMode::Open) {
+            const float z = nearest[size_t(j) * bw + i];
+            lo[out] = z == kInfinity ? 1.0f : z;
+            hi[out] = z;
+            continue;
+          }
+          const ResolvedInterval r = resolveCrossings(lists[size_t(j) * bw + i], mode);
+          lo[out] = r.lo, hi[out] = r.hi;
+          fallbacks += r.closedFallback;
+        }
+    }
+  return fallbacks;
+}
+
+}  // namespace sb
