@@ -1,0 +1,492 @@
+// Records (atomic writes, validity, cell keys, machine facts) and the progress display.
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "harness/progress.h"
+#include "harness/record.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// A fresh folder under the system temporary folder, removed with everything in it.
+class ScratchDir {
+ public:
+  ScratchDir() {
+    std::string pattern = (fs::temp_directory_path() / "sb-record-test-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
+    path_ = pattern;
+  }
+  ~ScratchDir() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+json sampleRecord() {
+  return json::parse(R"({
+    "format": "shadowbench-record/1", "complete": true,
+    "scene": {"name": "city", "spec": "city", "triangles": 12345, "hash": "0123456789abcdef"},
+    "light_index": 0, "light": {"type": "directional", "direction": [0.35, 0.25, -1]},
+    "mode": "closed",
+    "scheme": {"name": "sm32", "kind": "depth", "params": {"chunk": "32"}, "paper": "..."},
+    "resolution": 4096, "depth_resolution": 0, "tile_size": 512,
+    "size_bytes": {"total": 67108864, "components": {"depths": 67108864}},
+    "time_s": {"total": 3.2, "depth": 2.9, "phases": {"encode": 0.3}},
+    "depth": {"texels": 16777216, "mtexels_per_s": 5.8, "closed_fallbacks": 12},
+    "counters": {},
+    "memory": {"peak_rss_bytes": 123, "baseline_rss_bytes": 45},
+    "verification": {"method": "exhaustive", "queries": 123456, "mismatches": 0, "examples": []},
+    "lookup": [{"query_set": "uniform", "filter": 1, "queries": 1000000, "ns_per_query_1t": 12.5,
+                "mqueries_per_s_all": 150.0, "threads": 2}],
+    "machine": {"cpu": "...", "cores": 2, "memory_bytes": 0, "os": "..."},
+    "commit": "abc123", "created": "2026-11-26T10:00:00Z" })");
+}
+
+void writeText(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::vector<std::string> filesUnder(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    if (entry.is_regular_file()) names.push_back(fs::relative(entry.path(), dir).string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+bool isFileNameSafe(const std::string& name) {
+  return !name.empty() && name.front() != '.' &&
+         name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_.-") == std::string::npos;
+}
+
+}  // namespace
+
+TEST_CASE("writeJsonAtomically creates folders, leaves only the record, and replaces it whole",
+          "[record]") {
+  ScratchDir dir;
+  const fs::path path = dir.path() / "a" / "b" / "cell.json";
+  const json first = sampleRecord();
+  sb::writeJsonAtomically(path, first);
+  CHECK(filesUnder(dir.path()) == std::vector<std::string>{"a/b/cell.json"});
+  REQUIRE(sb::readRecord(path).has_value());
+  CHECK(*sb::readRecord(path) == first);
+
+  json second = first;
+  second["size_bytes"]["total"] = 42;
+  sb::writeJsonAtomically(path, second);
+  CHECK(filesUnder(dir.path()) == std::vector<std::string>{"a/b/cell.json"});
+  CHECK(sb::readRecord(path)->at("size_bytes").at("total") == 42);
+}
+
+TEST_CASE("a failed atomic write throws and leaves neither a partial file nor a temporary",
+          "[record]") {
+  ScratchDir dir;
+  writeText(dir.path() / "blocker", "not a folder");
+  CHECK_THROWS_AS(sb::writeJsonAtomically(dir.path() / "blocker" / "cell.json", sampleRecord()),
+                  std::runtime_error);
+  // A folder where the record should go: the rename fails after the temporary was written.
+  fs::create_directories(dir.path() / "cell.json" / "occupied");
+  CHECK_THROWS_AS(sb::writeJsonAtomically(dir.path() / "cell.json", sampleRecord()),
+                  std::runtime_error);
+  CHECK(filesUnder(dir.path()) == std::vector<std::string>{"blocker"});
+}
+
+TEST_CASE("concurrent atomic writes of one record leave one whole record", "[record]") {
+  ScratchDir dir;
+  const fs::path path = dir.path() / "cell.json";
+  std::vector<std::thread> writers;
+  for (int t = 0; t < 4; ++t)
+    writers.emplace_back([&, t] {
+      json record = sampleRecord();
+      record["counters"]["writer"] = t;
+      for (int i = 0; i < 20; ++i) sb::writeJsonAtomically(path, record);
+    });
+  for (auto& w : writers) w.join();
+  CHECK(filesUnder(dir.path()) == std::vector<std::string>{"cell.json"});
+  CHECK(sb::readRecord(path).has_value());
+}
+
+TEST_CASE("readRecord accepts only the whole text of a complete record", "[record]") {
+  ScratchDir dir;
+  const fs::path path = dir.path() / "cell.json";
+  sb::writeJsonAtomically(path, sampleRecord());
+  const std::string text = readText(path);
+  // Only trailing whitespace may be missing from a text that still holds the whole record.
+  const size_t wholeRecord = text.find_last_not_of(" \n") + 1;
+  for (size_t length = 0; length <= text.size(); ++length) {
+    writeText(path, text.substr(0, length));
+    INFO("truncated to " << length << " of " << text.size() << " bytes");
+    CHECK(sb::readRecord(path).has_value() == (length >= wholeRecord));
+  }
+}
+
+TEST_CASE("readRecord rejects garbage, incomplete and foreign records", "[record]") {
+  ScratchDir dir;
+  const fs::path path = dir.path() / "cell.json";
+  CHECK_FALSE(sb::readRecord(dir.path() / "missing.json"));
+  CHECK_FALSE(sb::readRecord(dir.path()));  // a folder
+
+  const auto rejects = [&](const std::string& text) {
+    writeText(path, text);
+    return !sb::readRecord(path).has_value();
+  };
+  CHECK(rejects(""));
+  CHECK(rejects(std::string("\0\0\xff{garbage", 12)));
+  CHECK(rejects("[1, 2, 3]"));
+  CHECK(rejects("\"shadowbench-record/1\""));
+
+  const auto rejectsEdited = [&](auto edit) {
+    json record = sampleRecord();
+    edit(record);
+    return rejects(record.dump());
+  };
+  CHECK_FALSE(rejectsEdited([](json&) {}));
+  CHECK(rejectsEdited([](json& r) { r["complete"] = false; }));
+  CHECK(rejectsEdited([](json& r) { r["complete"] = "true"; }));
+  CHECK(rejectsEdited([](json& r) { r.erase("complete"); }));
+  CHECK(rejectsEdited([](json& r) { r["format"] = "shadowbench-record/2"; }));
+  CHECK(rejectsEdited([](json& r) { r.erase("format"); }));
+  CHECK(rejectsEdited([](json& r) { r["scene"].erase("name"); }));
+  CHECK(rejectsEdited([](json& r) { r.erase("mode"); }));
+  CHECK(rejectsEdited([](json& r) { r["scheme"]["name"] = 3; }));
+  CHECK(rejectsEdited([](json& r) { r["resolution"] = "4096"; }));
+  CHECK(rejectsEdited([](json& r) { r["size_bytes"].erase("total"); }));
+  // Optional parts may be absent.
+  CHECK_FALSE(rejectsEdited([](json& r) {
+    for (const char* key :
+         {"verification", "lookup", "time_s", "depth", "memory", "machine", "light_index"})
+      r.erase(key);
+  }));
+}
+
+TEST_CASE("readRecords finds complete records recursively, sorted, and counts the rest",
+          "[record]") {
+  ScratchDir dir;
+  const fs::path root = dir.path() / "results";
+  json a = sampleRecord(), b = sampleRecord(), c = sampleRecord();
+  a["resolution"] = 1024, b["resolution"] = 2048, c["resolution"] = 512;
+  sb::writeJsonAtomically(root / "z.json", a);
+  sb::writeJsonAtomically(root / "deep" / "er" / "b.json", b);
+  sb::writeJsonAtomically(root / "a.json", c);
+  writeText(root / "truncated.json", sampleRecord().dump().substr(0, 100));
+  writeText(root / "deep" / "garbage.json", "not json");
+  json incomplete = sampleRecord();
+  incomplete["complete"] = false;
+  writeText(root / "incomplete.json", incomplete.dump());
+  writeText(root / "tables" / "size.csv", "scheme,4K²\r\n");
+  writeText(root / ".cell.json.tmp-1-2-3", sampleRecord().dump().substr(0, 10));
+
+  const sb::LoadedRecords loaded = sb::readRecords(root);
+  REQUIRE(loaded.records.size() == 3);
+  CHECK(loaded.paths ==
+        std::vector<fs::path>{root / "a.json", root / "deep" / "er" / "b.json", root / "z.json"});
+  CHECK(loaded.records[0]["resolution"] == 512);
+  CHECK(loaded.records[1]["resolution"] == 2048);
+  CHECK(loaded.records[2]["resolution"] == 1024);
+  CHECK(loaded.skipped.size() == 3);
+
+  CHECK(sb::readRecords(dir.path() / "nothing-here").records.empty());
+}
+
+TEST_CASE("cellKey names the cell from its identity, stably", "[record]") {
+  json record = sampleRecord();
+  CHECK(sb::cellKey(record) == "city_0_closed_sm32_chunk-32_4096");
+
+  // The identity alone (as a sweep has it before building) gives the same key.
+  json identity;
+  identity["resolution"] = 4096;
+  identity["scheme"] = {{"params", {{"chunk", "32"}}}, {"name", "sm32"}};
+  identity["mode"] = "closed";
+  identity["light_index"] = 0;
+  identity["scene"] = {{"name", "city"}};
+  CHECK(sb::cellKey(identity) == sb::cellKey(record));
+
+  // Parameters in name order whatever order they were given in; generator names stay readable.
+  record["scene"]["name"] = "city:size=24,seed=1";
+  record["light_index"] = 2;
+  record["scheme"] = {{"name", "mmh"}, {"params", {{"search", "1000"}, {"height", "3"}}}};
+  CHECK(sb::cellKey(record) == "city-size-24-seed-1_2_closed_mmh_height-3_search-1000_4096");
+
+  // Every key part matters.
+  std::set<std::string> keys;
+  for (const char* mode : {"open", "closed", "static"})
+    for (int resolution : {512, 1024})
+      for (const char* search : {"10", "100"}) {
+        record["mode"] = mode;
+        record["resolution"] = resolution;
+        record["scheme"]["params"]["search"] = search;
+        keys.insert(sb::cellKey(record));
+      }
+  CHECK(keys.size() == 12);
+}
+
+TEST_CASE("cellKey is filesystem-safe and distinct for odd scene names", "[record]") {
+  ScratchDir dir;
+  const std::vector<std::string> names = {"../../etc/passwd",
+                                          "a/b",
+                                          "a\\b",
+                                          "a?b",
+                                          "a*b",
+                                          "Straße",
+                                          "日本",
+                                          "",
+                                          ".",
+                                          "..",
+                                          ".hidden",
+                                          "with space",
+                                          "with\"quote",
+                                          "tab\there",
+                                          std::string(300, 'x'),
+                                          "CITY",
+                                          "-dash-",
+                                          "ends."};
+  std::set<std::string> keys;
+  for (const std::string& name : names) {
+    json record = sampleRecord();
+    record["scene"]["name"] = name;
+    const std::string key = sb::cellKey(record);
+    INFO("scene name '" << name << "' → key '" << key << "'");
+    CHECK(isFileNameSafe(key));
+    CHECK(key.size() <= 200);
+    CHECK(key == sb::cellKey(record));
+    keys.insert(key);
+    // The key works as a file name here.
+    sb::writeJsonAtomically(dir.path() / (key + ".json"), record);
+    CHECK(sb::readRecord(dir.path() / (key + ".json")).has_value());
+  }
+  CHECK(keys.size() == names.size());
+  CHECK(filesUnder(dir.path()).size() == names.size());
+
+  // Long parameter lists are cut to a bounded key that still tells cells apart.
+  json record = sampleRecord();
+  for (int i = 0; i < 40; ++i)
+    record["scheme"]["params"][std::string("p").append(std::to_string(i))] = "value";
+  const std::string longKey = sb::cellKey(record);
+  record["scheme"]["params"]["p39"] = "other";
+  CHECK(longKey.size() <= 200);
+  CHECK(sb::cellKey(record).size() <= 200);
+  CHECK(sb::cellKey(record) != longKey);
+}
+
+TEST_CASE("machine facts and memory figures come from this machine", "[record]") {
+  const json machine = sb::machineInfo();
+  CHECK(machine.at("cpu").is_string());
+  CHECK(!machine.at("cpu").get<std::string>().empty());
+  CHECK(machine.at("cores").get<unsigned>() == std::thread::hardware_concurrency());
+  CHECK(machine.at("memory_bytes").get<uint64_t>() > (uint64_t(64) << 20));
+  CHECK(machine.at("os").get<std::string>().find("Linux") != std::string::npos);
+
+  CHECK(sb::availableMemoryBytes() > 0);
+  CHECK(sb::availableMemoryBytes() <= machine.at("memory_bytes").get<uint64_t>());
+  sb::resetPeakRss();
+  const uint64_t before = sb::currentRssBytes();
+  CHECK(before > 0);
+  {
+    // Touch 64 MiB so that it is resident: the peak must see it after it is freed.
+    std::vector<char> block(64u << 20);
+    for (size_t i = 0; i < block.size(); i += 4096) block[i] = char(i);
+    CHECK(sb::currentRssBytes() >= before + (48u << 20));
+  }
+  CHECK(sb::peakRssBytes() >= before + (48u << 20));
+}
+
+TEST_CASE("sourceCommit names the commit, marks a dirty tree, and never throws", "[record]") {
+  ScratchDir dir;
+  CHECK(sb::sourceCommit(dir.path() / "missing") == "unknown");
+  CHECK(sb::sourceCommit(dir.path()) == "unknown");  // not a repository
+  if (std::system("git --version >/dev/null 2>&1") != 0) return;
+
+  // A quote in the path must not break the shell command.
+  const fs::path repo = dir.path() / "it's a repo";
+  fs::create_directories(repo);
+  std::string git = "git -C '";
+  git += dir.path().string();
+  git += "/it'\\''s a repo' ";
+  REQUIRE(std::system((git + "init -q").c_str()) == 0);
+  CHECK(sb::sourceCommit(repo) == "unknown");  // no commit yet
+  writeText(repo / "file.txt", "one\n");
+  REQUIRE(std::system((git + "add file.txt && " + git +
+                       "-c user.name=test -c user.email=test@example.com -c commit.gpgsign=false "
+                       "commit -q -m one")
+                          .c_str()) == 0);
+  const std::string clean = sb::sourceCommit(repo);
+  CHECK(clean.size() == 12);
+  CHECK(clean.find_first_not_of("0123456789abcdef") == std::string::npos);
+  writeText(repo / "untracked.txt", "ignored\n");
+  CHECK(sb::sourceCommit(repo) == clean);
+  writeText(repo / "file.txt", "two\n");
+  CHECK(sb::sourceCommit(repo) == clean + "-dirty");
+}
+
+// --- progress ---------------------------------------------------------------------------------
+
+namespace {
+
+// SHADOWBENCH_QUIET set to `value` (nullptr: unset) for a scope; the caller's is restored after.
+class QuietVariable {
+ public:
+  explicit QuietVariable(const char* value) {
+    if (const char* old = std::getenv("SHADOWBENCH_QUIET")) saved_ = old;
+    value ? setenv("SHADOWBENCH_QUIET", value, 1) : unsetenv("SHADOWBENCH_QUIET");
+  }
+  ~QuietVariable() {
+    saved_ ? setenv("SHADOWBENCH_QUIET", saved_->c_str(), 1) : unsetenv("SHADOWBENCH_QUIET");
+  }
+
+ private:
+  std::optional<std::string> saved_;
+};
+
+// What a Progress printed into a temporary file. The tests see the output whatever
+// SHADOWBENCH_QUIET the test run was started with.
+struct CapturedProgress {
+  QuietVariable loud{nullptr};
+  std::FILE* file = std::tmpfile();
+  ~CapturedProgress() { std::fclose(file); }
+  sb::ProgressStyle style(bool terminal) const {
+    sb::ProgressStyle s;
+    s.out = file;
+    s.terminal = terminal;
+    s.silentSeconds = 0;
+    s.barSeconds = 0;
+    s.lineSeconds = 0;
+    return s;
+  }
+  std::string text() const {
+    std::fflush(file);
+    std::rewind(file);
+    std::string out;
+    char buffer[512];
+    for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, file)) > 0;) out.append(buffer, n);
+    return out;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("Progress formats rates with SI prefixes and durations", "[progress]") {
+  CHECK(sb::formatSi(38.2e6, "texels/s") == "38.2 Mtexels/s");
+  CHECK(sb::formatSi(999.7e3, "texels") == "1.00 Mtexels");
+  CHECK(sb::formatSi(512, "queries") == "512 queries");
+  CHECK(sb::formatSi(0, "texels/s") == "0 texels/s");
+  CHECK(sb::formatSi(68.7e9, "texels") == "68.7 Gtexels");
+  CHECK(sb::formatDuration(12.34) == "12.3s");
+  CHECK(sb::formatDuration(185) == "3m05s");
+  CHECK(sb::formatDuration(7400) == "2h03m");
+  CHECK(sb::formatSignificant(0.125) == "0.125");
+  CHECK(sb::formatSignificant(99.96) == "100");
+  CHECK(sb::formatSignificant(131072) == "131072");
+  CHECK(sb::formatSignificant(3.2) == "3.20");
+}
+
+TEST_CASE("Progress prints lines off a terminal and a final line with the total time",
+          "[progress]") {
+  CapturedProgress captured;
+  {
+    sb::Progress progress("build", 1000, "texels", captured.style(false));
+    progress.advance(250);
+    progress.set(500);
+    progress.set(100);  // never backwards
+    progress.finish();
+    progress.advance(500);  // after finish: silent
+  }
+  const std::string out = captured.text();
+  CHECK(out.find("build:  25.0% of 1.00 ktexels") != std::string::npos);
+  CHECK(out.find("build:  50.0%") != std::string::npos);
+  CHECK(out.find("stopped at 50.0%, 500 texels in ") != std::string::npos);
+  CHECK(out.find('\r') == std::string::npos);
+  CHECK(std::count(out.begin(), out.end(), '\n') == 4);
+}
+
+TEST_CASE("Progress draws a bar on a terminal and ends it with a newline", "[progress]") {
+  CapturedProgress captured;
+  {
+    sb::Progress progress("depth", 4, "texels", captured.style(true));
+    for (int i = 0; i < 4; ++i) progress.advance(1);
+  }  // the destructor finishes
+  const std::string out = captured.text();
+  CHECK(out.find("\rdepth [##############################] 100.0%") != std::string::npos);
+  CHECK(out.find("depth: 4.00 texels in ") != std::string::npos);
+  CHECK(out.back() == '\n');
+  CHECK(std::count(out.begin(), out.end(), '\n') == 1);
+}
+
+TEST_CASE("Progress with total 0 shows count and rate; quiet ones print nothing", "[progress]") {
+  CapturedProgress unknownTotal;
+  {
+    sb::Progress progress("verify", 0, "queries", unknownTotal.style(false));
+    progress.advance(1'000'000);
+    progress.finish();
+  }
+  CHECK(unknownTotal.text().find("verify: 1.00 Mqueries, ") != std::string::npos);
+  CHECK(unknownTotal.text().find("nan") == std::string::npos);
+  CHECK(unknownTotal.text().find("inf") == std::string::npos);
+
+  CapturedProgress quiet;
+  {
+    sb::ProgressStyle style = quiet.style(true);
+    style.quiet = true;
+    sb::Progress progress("q", 10, "texels", style);
+    progress.advance(5);
+  }
+  CHECK(quiet.text().empty());
+
+  CapturedProgress byEnvironment;
+  {
+    QuietVariable quietRun("1");
+    sb::Progress progress("q", 10, "texels", byEnvironment.style(false));
+    progress.advance(5);
+  }
+  CHECK(byEnvironment.text().empty());
+
+  // Short tasks stay quiet: nothing in the first seconds, so nothing at the end either.
+  CapturedProgress shortTask;
+  {
+    sb::ProgressStyle style = shortTask.style(false);
+    style.silentSeconds = 2;
+    sb::Progress progress("short", 10, "texels", style);
+    progress.advance(10);
+  }
+  CHECK(shortTask.text().empty());
+}
+
+TEST_CASE("Progress advances correctly from many threads", "[progress]") {
+  CapturedProgress captured;
+  {
+    sb::Progress progress("parallel", 8 * 10000, "texels", captured.style(false));
+    std::vector<std::thread> workers;
+    for (int t = 0; t < 8; ++t)
+      workers.emplace_back([&] {
+        for (int i = 0; i < 10000; ++i) progress.advance(1);
+      });
+    for (auto& w : workers) w.join();
+    progress.finish();
+  }
+  CHECK(captured.text().find("parallel: 80.0 ktexels in ") != std::string::npos);
+}
