@@ -103,7 +103,8 @@ nlohmann::json runCell(const CellSpec& cell, const Scene& scene, const CellOptio
   record["depth"] = {
       {"texels", built.texels},
       {"mtexels_per_s", double(built.texels) / std::max(built.depthSeconds, 1e-9) * 1e-6},
-      {"closed_fallbacks", built.closedFallbacks}};
+      {"closed_fallbacks", built.closedFallbacks},
+      {"method", toString(source.method())}};
   record["counters"] = built.counters;
   record["memory"] = {{"peak_rss_bytes", built.peakRssBytes},
                       {"baseline_rss_bytes", built.baselineRssBytes}};

@@ -134,7 +134,9 @@ int main(int argc, char** argv) {
       app.add_subcommand("depth", "stream the dual depth map and report its throughput");
   depthMap.addTo(depthCmd);
   std::string exrPath;
+  bool rayCast = false;
   depthCmd->add_option("--exr", exrPath, "also write lo/hi as a float EXR (R ≤ 16K)");
+  depthCmd->add_flag("--raycast", rayCast, "ray cast with Embree instead of rasterising (directional lights)");
 
   MapOptions buildMap;
   auto* buildCmd =
@@ -236,15 +238,16 @@ int main(int argc, char** argv) {
       const Scene scene = openScene(depthMap.scene);
       const uint32_t r = parseResolution(depthMap.resolution);
       const DepthSource source(scene, sceneLight(scene, depthMap.light),
-                               depthModeFromString(depthMap.mode), r);
+                               depthModeFromString(depthMap.mode), r,
+                               rayCast ? DepthMethod::RayCast : DepthMethod::Rasterize);
       Progress progress("depth", uint64_t(r) * r, "texels");
       const StreamStats stats = streamDualDepth(
           source, depthMap.tile ? depthMap.tile : defaultTileSize(r), [](const DualDepthTile&) {},
           [&](uint64_t d) { progress.set(d); });
       progress.finish();
       fmt::print(
-          "{} {} {}²: {:.3f} s, {:.1f} Mtexels/s ({:.3f} thread-s tracing), {} closed fallbacks\n",
-          scene.name, depthMap.mode, r, stats.wallSeconds, double(r) * r / stats.wallSeconds * 1e-6,
+          "{} {} {}² ({}): {:.3f} s, {:.1f} Mtexels/s ({:.3f} thread-s tracing), {} closed fallbacks\n",
+          scene.name, depthMap.mode, r, toString(source.method()), stats.wallSeconds, double(r) * r / stats.wallSeconds * 1e-6,
           stats.traceThreadSeconds, source.closedFallbacks());
       if (!exrPath.empty()) {
         writeDualDepthExr(source, exrPath);

@@ -8,4 +8,4 @@ scripts/install-deps.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "$(nproc)" --target shadowbench
 build/harness/shadowbench sweep --out results/sweep "$@"
-python3 scripts/plot.py results/sweep --out results/sweep/plots || echo "plots skipped"
+/usr/bin/python3 scripts/plot.py results/sweep --out results/sweep/plots || echo "plots skipped"
