@@ -108,7 +108,7 @@ std::unique_ptr<Decoder> decodeStructureFile(std::span<const uint8_t> file,
   uint64_t stored;
   std::memcpy(&stored, file.data() + body, sizeof stored);
   if (XXH3_64bits(file.data(), body) != stored)
-    throw FormatError("structure file is corrupted (checksum mismatch)");
+    throw FormatError("structure file is truncated or corrupted (checksum mismatch)");
 
   const auto headerBytes = reader.get<uint32_t>("header length");
   if (headerBytes > kMaxHeaderBytes || headerBytes > reader.remaining())
