@@ -109,279 +109,301 @@ int listSchemes() {
   return 0;
 }
 
+// The options of every subcommand; each subcommand's callback reads its own part.
+struct Options {
+  MapOptions map;
+  std::string output, exr, scheme = "sm32", results = "results/builds", structure;
+  std::vector<std::string> params;
+  bool rayCast = false, noVerify = false, noBench = false;
+  uint64_t sampledQueries = 10'000'000;
+  std::string sweepScenes = "city", sweepModes = "closed", sweepSchemes = "all";
+  std::string sweepResolutions = "1K,2K,4K,8K", sweepOut = "results/sweep";
+  std::string records = "results/sweep", tableOut;
+};
+
+int sceneList() {
+  for (const GeneratorInfo& g : sceneGenerators())
+    fmt::print("{:8} default size {}, full size {} — {}\n", g.name, g.defaultSize, g.fullSize,
+               g.description);
+  return 0;
+}
+
+int sceneInfo(const Options& o) {
+  const Scene scene = openScene(o.map.scene);
+  const Bounds b = scene.bounds();
+  fmt::print("scene {}: {} triangles in {} meshes, hash {}\n", scene.name, scene.triangleCount(),
+             scene.meshes.size(), scene.hash());
+  fmt::print("bounds ({}, {}, {}) – ({}, {}, {})\n", b.min.x, b.min.y, b.min.z, b.max.x, b.max.y,
+             b.max.z);
+  for (const Mesh& m : scene.meshes)
+    fmt::print("  {:24} {:6} {:>10} triangles\n", m.name, m.closed ? "closed" : "open",
+               m.triangles.size());
+  for (size_t i = 0; i < scene.lights.size(); ++i)
+    fmt::print("  light {}: {}\n", i, sceneLight(scene, uint32_t(i)).describe().dump());
+  return 0;
+}
+
+int sceneExport(const Options& o) {
+  const Scene scene = openScene(o.map.scene);
+  std::ofstream out(o.output);
+  if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", o.output));
+  exportLightSpaceObj(scene, sceneLight(scene, o.map.light), out);
+  fmt::print("wrote {} ({} triangles in light space)\n", o.output, scene.triangleCount());
+  return 0;
+}
+
+int depth(const Options& o) {
+  const Scene scene = openScene(o.map.scene);
+  const uint32_t r = parseResolution(o.map.resolution);
+  const DepthSource source(scene, sceneLight(scene, o.map.light), depthModeFromString(o.map.mode),
+                           r, o.rayCast ? DepthMethod::RayCast : DepthMethod::Rasterize);
+  Progress progress("depth", uint64_t(r) * r, "texels");
+  const StreamStats stats = streamDualDepth(
+      source, o.map.tile ? o.map.tile : defaultTileSize(r), [](const DualDepthTile&) {},
+      [&](uint64_t done) { progress.set(done); });
+  progress.finish();
+  fmt::print(
+      "{} {} {}² ({}): {:.3f} s, {:.1f} Mtexels/s ({:.3f} thread-s tracing), {} closed "
+      "fallbacks\n",
+      scene.name, o.map.mode, r, toString(source.method()), stats.wallSeconds,
+      double(r) * r / stats.wallSeconds * 1e-6, stats.traceThreadSeconds, source.closedFallbacks());
+  if (!o.exr.empty()) {
+    writeDualDepthExr(source, o.exr);
+    fmt::print("wrote {}\n", o.exr);
+  }
+  return 0;
+}
+
+int build(const Options& o) {
+  const Scene scene = openScene(o.map.scene);
+  const CellSpec cell{o.map.scene, o.map.light,           depthModeFromString(o.map.mode),
+                      o.scheme,    parseParams(o.params), parseResolution(o.map.resolution),
+                      o.map.tile};
+  CellOptions options;
+  options.verify = !o.noVerify;
+  options.benchLookups = !o.noBench;
+  options.verifyOptions.sampledQueries = o.sampledQueries;
+  if (!o.output.empty()) options.saveStructureTo = o.output;
+  const nlohmann::json record = runCell(cell, scene, options);
+  const fs::path recordPath = fs::path(o.results) / (cellKey(record) + ".json");
+  writeJsonAtomically(recordPath, record);
+  printCellSummary(record);
+  fmt::print("record: {}\n", recordPath.string());
+  return hasMismatches(record) ? 1 : 0;
+}
+
+// A saved structure with the scene it was built for: the reference re-traced for `verify`,
+// view samples for `bench`.
+struct LoadedStructure {
+  StructureHeader header;
+  std::unique_ptr<Decoder> decoder;
+  Scene scene;
+  std::unique_ptr<DepthSource> source;
+
+  explicit LoadedStructure(const Options& o)
+      : decoder(loadStructure(o.structure, &header)), scene(openScene(o.map.scene)) {
+    source = std::make_unique<DepthSource>(scene, sceneLight(scene, o.map.light), header.map.mode,
+                                           header.map.resolution);
+  }
+};
+
+int verifyStructure(const Options& o) {
+  const LoadedStructure loaded(o);
+  VerifyOptions options;
+  options.sampledQueries = o.sampledQueries;
+  Progress progress("verify", 0, "queries");
+  const VerifyReport report =
+      verify(*loaded.decoder, findScheme(loaded.header.scheme).kind, loaded.header.map,
+             *loaded.source, options, [&](uint64_t done) { progress.set(done); });
+  progress.finish();
+  printVerification(report.toJson());
+  return report.mismatches ? 1 : 0;
+}
+
+int benchStructure(const Options& o) {
+  const LoadedStructure loaded(o);
+  const QuerySet sets[] = {uniformQueries(1 << 22, 7),
+                           viewSamples(loaded.scene, *loaded.source, 1920, 1080, 2)};
+  for (const QuerySet& set : sets)
+    for (int k : {1, 3, 5, 9, 17}) {
+      const LookupTiming t = timeLookups(*loaded.decoder, set, k);
+      fmt::print("{:8} {:2}×{:<2}: {:8.1f} ns/query (1 thread), {:8.1f} Mqueries/s ({} threads)\n",
+                 t.querySet, k, k, t.nsPerQuerySingleThread, t.mqueriesPerSecondAllThreads,
+                 t.threads);
+    }
+  return 0;
+}
+
+int query(const Options& o) {
+  const auto decoder = loadStructure(o.structure, nullptr);
+  std::string line;
+  for (uint64_t number = 1; std::getline(std::cin, line); ++number) {
+    std::istringstream in(line);
+    Query q{};
+    int k = 1;
+    if (!(in >> q.x >> q.y >> q.z)) {
+      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+      throw std::invalid_argument(
+          fmt::format("query line {}: expected 'x y z [k]', got '{}'", number, line));
+    }
+    in >> k;
+    float visibility = 0;
+    decoder->lookup(std::span(&q, 1), k, std::span(&visibility, 1));
+    fmt::print("{}\n", visibility);
+  }
+  return 0;
+}
+
+int sweep(const Options& o) {
+  std::vector<std::string> schemeNames = splitList(o.sweepSchemes);
+  if (o.sweepSchemes == "all") {
+    schemeNames.clear();
+    for (const SchemeInfo& s : schemes()) schemeNames.push_back(s.name);
+  }
+  CellOptions options;
+  options.benchLookups = !o.noBench;
+  options.verifyOptions.sampledQueries = o.sampledQueries;
+  size_t done = 0, skipped = 0, failed = 0;
+  for (const std::string& spec : splitList(o.sweepScenes)) {
+    const Scene scene = openScene(spec);
+    for (const std::string& mode : splitList(o.sweepModes))
+      for (const std::string& name : schemeNames)
+        for (const std::string& res : splitList(o.sweepResolutions)) {
+          const CellSpec cell{spec, 0, depthModeFromString(mode), name, {}, parseResolution(res),
+                              0};
+          const fs::path path =
+              fs::path(o.sweepOut) / (cellKey(cellIdentity(cell, scene)) + ".json");
+          if (readRecord(path)) {
+            ++skipped;
+            continue;
+          }
+          try {
+            const nlohmann::json record = runCell(cell, scene, options);
+            writeJsonAtomically(path, record);
+            printCellSummary(record);
+            failed += hasMismatches(record);
+            ++done;
+          } catch (const std::exception& error) {
+            // One cell that cannot be built (e.g. too large for memory) does not stop the sweep.
+            fmt::print(stderr, "cell {} skipped: {}\n", path.filename().string(), error.what());
+            ++failed;
+          }
+        }
+  }
+  fmt::print("sweep: {} cells built, {} already done, {} failed or mismatched\n", done, skipped,
+             failed);
+  const auto tables = makeTables(readRecords(o.sweepOut).records);
+  writeTables(tables, fs::path(o.sweepOut) / "tables");
+  fmt::print("{}", toMarkdown(tables));
+  return failed ? 1 : 0;
+}
+
+int table(const Options& o) {
+  const auto loaded = readRecords(o.records);
+  if (loaded.records.empty())
+    throw std::runtime_error(fmt::format("no complete records under '{}'", o.records));
+  const auto tables = makeTables(loaded.records);
+  writeTables(tables, o.tableOut.empty() ? fs::path(o.records) / "tables" : fs::path(o.tableOut));
+  fmt::print("{}", toMarkdown(tables));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"shadowbench: build, verify and measure compressed precomputed shadow maps"};
   app.require_subcommand(1);
+  Options o;
+  int status = 0;
+  // Each subcommand runs its function as its callback; the status is the process's exit code.
+  auto command = [&](CLI::App* parent, const char* name, const char* help, auto run) {
+    CLI::App* sub = parent->add_subcommand(name, help);
+    sub->callback([&status, run] { status = run(); });
+    return sub;
+  };
 
-  auto* schemesCmd = app.add_subcommand("schemes", "list registered schemes and their parameters");
+  command(&app, "schemes", "list registered schemes and their parameters",
+          [] { return listSchemes(); });
 
-  auto* sceneCmd = app.add_subcommand("scene", "inspect and export scenes");
-  sceneCmd->require_subcommand(1);
-  auto* sceneList = sceneCmd->add_subcommand("list", "list the procedural generators");
-  MapOptions sceneMap;
-  auto* sceneInfo =
-      sceneCmd->add_subcommand("info", "triangles, meshes, closedness, bounds, lights, hash");
-  sceneMap.addTo(sceneInfo, false);
-  auto* sceneExport = sceneCmd->add_subcommand("export", "write the scene in light space as OBJ");
-  sceneMap.addTo(sceneExport, false);
-  std::string exportPath;
-  sceneExport->add_option("--output,-o", exportPath, "OBJ file to write")->required();
+  CLI::App* scene = app.add_subcommand("scene", "inspect and export scenes");
+  scene->require_subcommand(1);
+  command(scene, "list", "list the procedural generators", [] { return sceneList(); });
+  o.map.addTo(command(scene, "info", "triangles, meshes, closedness, bounds, lights, hash",
+                      [&] { return sceneInfo(o); }),
+              false);
+  CLI::App* exporter = command(scene, "export", "write the scene in light space as OBJ",
+                               [&] { return sceneExport(o); });
+  o.map.addTo(exporter, false);
+  exporter->add_option("--output,-o", o.output, "OBJ file to write")->required();
 
-  MapOptions depthMap;
-  auto* depthCmd =
-      app.add_subcommand("depth", "stream the dual depth map and report its throughput");
-  depthMap.addTo(depthCmd);
-  std::string exrPath;
-  bool rayCast = false;
-  depthCmd->add_option("--exr", exrPath, "also write lo/hi as a float EXR (R ≤ 16K)");
-  depthCmd->add_flag("--raycast", rayCast, "ray cast with Embree instead of rasterising (directional lights)");
+  CLI::App* depthCmd = command(&app, "depth", "stream the dual depth map and report its throughput",
+                               [&] { return depth(o); });
+  o.map.addTo(depthCmd);
+  depthCmd->add_option("--exr", o.exr, "also write lo/hi as a float EXR (R ≤ 16K)");
+  depthCmd->add_flag("--raycast", o.rayCast,
+                     "ray cast with Embree instead of rasterising (directional lights)");
 
-  MapOptions buildMap;
-  auto* buildCmd =
-      app.add_subcommand("build", "build a scheme for a scene, verify it, time lookups, record it");
-  buildMap.addTo(buildCmd);
-  std::string schemeName = "sm32", outputPath, resultsDir = "results/builds";
-  std::vector<std::string> paramList;
-  bool noVerify = false, noBench = false;
-  uint64_t sampled = 10'000'000;
-  buildCmd->add_option("--scheme", schemeName, "scheme name (see 'shadowbench schemes')")
+  auto sampled = [&](CLI::App* sub) {
+    sub->add_option("--sampled-queries", o.sampledQueries, "queries checked above 2K²")
+        ->capture_default_str();
+  };
+  CLI::App* buildCmd =
+      command(&app, "build", "build a scheme for a scene, verify it, time lookups, record it",
+              [&] { return build(o); });
+  o.map.addTo(buildCmd);
+  buildCmd->add_option("--scheme", o.scheme, "scheme name (see 'shadowbench schemes')")
       ->capture_default_str();
-  buildCmd->add_option("--param,-p", paramList, "scheme parameter name=value (repeatable)");
-  buildCmd->add_option("--output,-o", outputPath, "save the structure to this file");
-  buildCmd->add_option("--results", resultsDir, "folder for the JSON record")
-      ->capture_default_str();
-  buildCmd->add_flag("--no-verify", noVerify, "skip the check against the reference");
-  buildCmd->add_flag("--no-bench", noBench, "skip lookup timings");
-  buildCmd->add_option("--sampled-queries", sampled, "queries checked above 2K²")
-      ->capture_default_str();
+  buildCmd->add_option("--param,-p", o.params, "scheme parameter name=value (repeatable)");
+  buildCmd->add_option("--output,-o", o.output, "save the structure to this file");
+  buildCmd->add_option("--results", o.results, "folder for the JSON record")->capture_default_str();
+  buildCmd->add_flag("--no-verify", o.noVerify, "skip the check against the reference");
+  buildCmd->add_flag("--no-bench", o.noBench, "skip lookup timings");
+  sampled(buildCmd);
 
-  MapOptions verifyMap;
-  auto* verifyCmd = app.add_subcommand("verify", "check a saved structure against the reference");
-  verifyMap.addTo(verifyCmd, false);
-  std::string structurePath;
-  verifyCmd->add_option("structure", structurePath, "structure file")->required();
-  verifyCmd->add_option("--sampled-queries", sampled, "queries checked above 2K²")
-      ->capture_default_str();
+  CLI::App* verifyCmd = command(&app, "verify", "check a saved structure against the reference",
+                                [&] { return verifyStructure(o); });
+  o.map.addTo(verifyCmd, false);
+  verifyCmd->add_option("structure", o.structure, "structure file")->required();
+  sampled(verifyCmd);
 
-  auto* queryCmd =
-      app.add_subcommand("query", "answer 'x y z [k]' lines from stdin with a saved structure");
-  std::string queryStructure;
-  queryCmd->add_option("structure", queryStructure, "structure file")->required();
+  command(&app, "query", "answer 'x y z [k]' lines from stdin with a saved structure",
+          [&] { return query(o); })
+      ->add_option("structure", o.structure, "structure file")
+      ->required();
 
-  MapOptions benchMap;
-  auto* benchCmd = app.add_subcommand("bench", "time lookups of a saved structure");
-  benchMap.addTo(benchCmd, false);
-  std::string benchStructure;
-  benchCmd->add_option("structure", benchStructure, "structure file")->required();
+  CLI::App* benchCmd = command(&app, "bench", "time lookups of a saved structure",
+                               [&] { return benchStructure(o); });
+  o.map.addTo(benchCmd, false);
+  benchCmd->add_option("structure", o.structure, "structure file")->required();
 
-  auto* sweepCmd =
-      app.add_subcommand("sweep", "build every cell of a matrix, resuming finished cells");
-  std::string sweepScenes = "city", sweepModes = "closed", sweepSchemes = "all",
-              sweepResolutions = "1K,2K,4K,8K";
-  std::string sweepOut = "results/sweep";
-  bool sweepNoBench = false;
-  sweepCmd->add_option("--scenes", sweepScenes, "comma-separated scene specs")
+  CLI::App* sweepCmd =
+      command(&app, "sweep", "build every cell of a matrix, resuming finished cells",
+              [&] { return sweep(o); });
+  sweepCmd->add_option("--scenes", o.sweepScenes, "comma-separated scene specs")
       ->capture_default_str();
-  sweepCmd->add_option("--modes", sweepModes, "comma-separated modes")->capture_default_str();
-  sweepCmd->add_option("--schemes", sweepSchemes, "comma-separated schemes, or all")
+  sweepCmd->add_option("--modes", o.sweepModes, "comma-separated modes")->capture_default_str();
+  sweepCmd->add_option("--schemes", o.sweepSchemes, "comma-separated schemes, or all")
       ->capture_default_str();
-  sweepCmd->add_option("--resolutions", sweepResolutions, "comma-separated resolutions")
+  sweepCmd->add_option("--resolutions", o.sweepResolutions, "comma-separated resolutions")
       ->capture_default_str();
-  sweepCmd->add_option("--out", sweepOut, "records folder (finished cells there are skipped)")
+  sweepCmd->add_option("--out", o.sweepOut, "records folder (finished cells there are skipped)")
       ->capture_default_str();
-  sweepCmd->add_option("--sampled-queries", sampled, "queries checked above 2K²")
-      ->capture_default_str();
-  sweepCmd->add_flag("--no-bench", sweepNoBench, "skip lookup timings");
+  sweepCmd->add_flag("--no-bench", o.noBench, "skip lookup timings");
+  sampled(sweepCmd);
 
-  auto* tableCmd = app.add_subcommand("table", "regenerate Markdown and CSV tables from records");
-  std::string tableIn = "results/sweep", tableOut;
-  tableCmd->add_option("records", tableIn, "records folder")->capture_default_str();
-  tableCmd->add_option("--out", tableOut, "folder for tables.md and CSVs (default RECORDS/tables)");
-
-  CLI11_PARSE(app, argc, argv);
+  CLI::App* tableCmd = command(&app, "table", "regenerate Markdown and CSV tables from records",
+                               [&] { return table(o); });
+  tableCmd->add_option("records", o.records, "records folder")->capture_default_str();
+  tableCmd->add_option("--out", o.tableOut,
+                       "folder for tables.md and CSVs (default RECORDS/tables)");
 
   try {
-    if (*schemesCmd) return listSchemes();
-
-    if (*sceneList) {
-      for (const GeneratorInfo& g : sceneGenerators())
-        fmt::print("{:8} default size {}, full size {} — {}\n", g.name, g.defaultSize, g.fullSize,
-                   g.description);
-      return 0;
-    }
-    if (*sceneInfo) {
-      const Scene scene = openScene(sceneMap.scene);
-      const Bounds b = scene.bounds();
-      fmt::print("scene {}: {} triangles in {} meshes, hash {}\n", scene.name,
-                 scene.triangleCount(), scene.meshes.size(), scene.hash());
-      fmt::print("bounds ({}, {}, {}) – ({}, {}, {})\n", b.min.x, b.min.y, b.min.z, b.max.x,
-                 b.max.y, b.max.z);
-      for (const Mesh& m : scene.meshes)
-        fmt::print("  {:24} {:6} {:>10} triangles\n", m.name, m.closed ? "closed" : "open",
-                   m.triangles.size());
-      for (size_t i = 0; i < scene.lights.size(); ++i)
-        fmt::print("  light {}: {}\n", i, sceneLight(scene, uint32_t(i)).describe().dump());
-      return 0;
-    }
-    if (*sceneExport) {
-      const Scene scene = openScene(sceneMap.scene);
-      std::ofstream out(exportPath);
-      if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", exportPath));
-      exportLightSpaceObj(scene, sceneLight(scene, sceneMap.light), out);
-      fmt::print("wrote {} ({} triangles in light space)\n", exportPath, scene.triangleCount());
-      return 0;
-    }
-
-    if (*depthCmd) {
-      const Scene scene = openScene(depthMap.scene);
-      const uint32_t r = parseResolution(depthMap.resolution);
-      const DepthSource source(scene, sceneLight(scene, depthMap.light),
-                               depthModeFromString(depthMap.mode), r,
-                               rayCast ? DepthMethod::RayCast : DepthMethod::Rasterize);
-      Progress progress("depth", uint64_t(r) * r, "texels");
-      const StreamStats stats = streamDualDepth(
-          source, depthMap.tile ? depthMap.tile : defaultTileSize(r), [](const DualDepthTile&) {},
-          [&](uint64_t d) { progress.set(d); });
-      progress.finish();
-      fmt::print(
-          "{} {} {}² ({}): {:.3f} s, {:.1f} Mtexels/s ({:.3f} thread-s tracing), {} closed fallbacks\n",
-          scene.name, depthMap.mode, r, toString(source.method()), stats.wallSeconds, double(r) * r / stats.wallSeconds * 1e-6,
-          stats.traceThreadSeconds, source.closedFallbacks());
-      if (!exrPath.empty()) {
-        writeDualDepthExr(source, exrPath);
-        fmt::print("wrote {}\n", exrPath);
-      }
-      return 0;
-    }
-
-    if (*buildCmd) {
-      const Scene scene = openScene(buildMap.scene);
-      CellSpec cell{buildMap.scene, buildMap.light,         depthModeFromString(buildMap.mode),
-                    schemeName,     parseParams(paramList), parseResolution(buildMap.resolution),
-                    buildMap.tile};
-      CellOptions options;
-      options.verify = !noVerify;
-      options.benchLookups = !noBench;
-      options.verifyOptions.sampledQueries = sampled;
-      if (!outputPath.empty()) options.saveStructureTo = outputPath;
-      const nlohmann::json record = runCell(cell, scene, options);
-      const fs::path recordPath = fs::path(resultsDir) / (cellKey(record) + ".json");
-      writeJsonAtomically(recordPath, record);
-      printCellSummary(record);
-      fmt::print("record: {}\n", recordPath.string());
-      return hasMismatches(record) ? 1 : 0;
-    }
-
-    if (*verifyCmd || *benchCmd) {
-      MapOptions& map = *verifyCmd ? verifyMap : benchMap;
-      StructureHeader header;
-      const auto decoder = loadStructure(*verifyCmd ? structurePath : benchStructure, &header);
-      const Scene scene = openScene(map.scene);
-      const DepthSource source(scene, sceneLight(scene, map.light), header.map.mode,
-                               header.map.resolution);
-      if (*benchCmd) {
-        const QuerySet sets[] = {uniformQueries(1 << 22, 7),
-                                 viewSamples(scene, source, 1920, 1080, 2)};
-        for (const QuerySet& set : sets)
-          for (int k : {1, 3, 5, 9, 17}) {
-            const LookupTiming t = timeLookups(*decoder, set, k);
-            fmt::print(
-                "{:8} {:2}×{:<2}: {:8.1f} ns/query (1 thread), {:8.1f} Mqueries/s ({} threads)\n",
-                t.querySet, k, k, t.nsPerQuerySingleThread, t.mqueriesPerSecondAllThreads,
-                t.threads);
-          }
-        return 0;
-      }
-      VerifyOptions options;
-      options.sampledQueries = sampled;
-      const SchemeInfo& scheme = findScheme(header.scheme);
-      Progress progress("verify", 0, "queries");
-      const VerifyReport report = verify(*decoder, scheme.kind, header.map, source, options,
-                                         [&](uint64_t d) { progress.set(d); });
-      progress.finish();
-      printVerification(report.toJson());
-      return report.mismatches ? 1 : 0;
-    }
-
-    if (*queryCmd) {
-      const auto decoder = loadStructure(queryStructure, nullptr);
-      std::string line;
-      for (uint64_t number = 1; std::getline(std::cin, line); ++number) {
-        std::istringstream in(line);
-        Query q{};
-        int k = 1;
-        if (!(in >> q.x >> q.y >> q.z)) {
-          if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-          throw std::invalid_argument(
-              fmt::format("query line {}: expected 'x y z [k]', got '{}'", number, line));
-        }
-        in >> k;
-        float visibility = 0;
-        decoder->lookup(std::span(&q, 1), k, std::span(&visibility, 1));
-        fmt::print("{}\n", visibility);
-      }
-      return 0;
-    }
-
-    if (*sweepCmd) {
-      std::vector<std::string> schemeNames = splitList(sweepSchemes);
-      if (sweepSchemes == "all") {
-        schemeNames.clear();
-        for (const SchemeInfo& s : schemes()) schemeNames.push_back(s.name);
-      }
-      CellOptions options;
-      options.benchLookups = !sweepNoBench;
-      options.verifyOptions.sampledQueries = sampled;
-      size_t done = 0, skipped = 0, failed = 0;
-      for (const std::string& spec : splitList(sweepScenes)) {
-        const Scene scene = openScene(spec);
-        for (const std::string& mode : splitList(sweepModes))
-          for (const std::string& name : schemeNames)
-            for (const std::string& res : splitList(sweepResolutions)) {
-              const CellSpec cell{
-                  spec, 0, depthModeFromString(mode), name, {}, parseResolution(res), 0};
-              const fs::path path =
-                  fs::path(sweepOut) / (cellKey(cellIdentity(cell, scene)) + ".json");
-              if (readRecord(path)) {
-                ++skipped;
-                continue;
-              }
-              try {
-                const nlohmann::json record = runCell(cell, scene, options);
-                writeJsonAtomically(path, record);
-                printCellSummary(record);
-                failed += hasMismatches(record);
-                ++done;
-              } catch (const std::exception& error) {
-                // One cell that cannot be built (e.g. too large for memory) does not stop the
-                // sweep.
-                fmt::print(stderr, "cell {} skipped: {}\n", path.filename().string(), error.what());
-                ++failed;
-              }
-            }
-      }
-      fmt::print("sweep: {} cells built, {} already done, {} failed or mismatched\n", done, skipped,
-                 failed);
-      const auto tables = makeTables(readRecords(sweepOut).records);
-      writeTables(tables, fs::path(sweepOut) / "tables");
-      fmt::print("{}", toMarkdown(tables));
-      return failed ? 1 : 0;
-    }
-
-    if (*tableCmd) {
-      const auto loaded = readRecords(tableIn);
-      if (loaded.records.empty())
-        throw std::runtime_error(fmt::format("no complete records under '{}'", tableIn));
-      const auto tables = makeTables(loaded.records);
-      writeTables(tables, tableOut.empty() ? fs::path(tableIn) / "tables" : fs::path(tableOut));
-      fmt::print("{}", toMarkdown(tables));
-      return 0;
-    }
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
   } catch (const std::exception& error) {
     fmt::print(stderr, "shadowbench: {}\n", error.what());
     return 2;
   }
-  return 0;
+  return status;
 }

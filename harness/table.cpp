@@ -290,32 +290,34 @@ std::pair<Table, Table> sizeTables(const Group& group,
   return {std::move(mibTable), std::move(percentTable)};
 }
 
-Table buildTimeTable(const Group& group) {
-  Table table{
-      "Build time — " + group.describe(),
-      "seconds of wall time for the whole build, depth generation included; in parentheses the "
-      "depth generation rate in Mtexels/s; – = not built or not timed",
-      resolutionHeader("scheme", group.resolutions),
-      {},
-      group.slug("build-time")};
+// A table of one cell per variant and resolution, read from each record by `cell`.
+Table perResolutionTable(const Group& group, const std::string& title, std::string unitNote,
+                         std::string_view slugName, std::string (*cell)(const json&)) {
+  Table table{title + " — " + group.describe(),
+              std::move(unitNote),
+              resolutionHeader("scheme", group.resolutions),
+              {},
+              group.slug(slugName)};
   for (const Variant& v : group.variants)
     table.rows.push_back(
-        variantRow(group, v, [](const json& rec, uint64_t) { return buildTimeCell(rec); }));
+        variantRow(group, v, [cell](const json& rec, uint64_t) { return cell(rec); }));
   return table;
 }
 
+Table buildTimeTable(const Group& group) {
+  return perResolutionTable(
+      group, "Build time",
+      "seconds of wall time for the whole build, depth generation included; in parentheses the "
+      "depth generation rate in Mtexels/s; – = not built or not timed",
+      "build-time", buildTimeCell);
+}
+
 Table verificationTable(const Group& group) {
-  Table table{
-      "Verification — " + group.describe(),
+  return perResolutionTable(
+      group, "Verification",
       "queries checked against the reference / mismatches; FAIL: not lossless; (sampled): random "
       "queries rather than every texel; – = not verified",
-      resolutionHeader("scheme", group.resolutions),
-      {},
-      group.slug("verification")};
-  for (const Variant& v : group.variants)
-    table.rows.push_back(
-        variantRow(group, v, [](const json& rec, uint64_t) { return verificationCell(rec); }));
-  return table;
+      "verification", verificationCell);
 }
 
 // The timings of one (query set, filter size) in a record's "lookup" list.
