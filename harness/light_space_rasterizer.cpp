@@ -97,7 +97,9 @@ LightSpaceRasterizer::LightSpaceRasterizer(const Scene& scene, const Light& ligh
   auto forEachBin = [&](const FixedTriangle& t, auto&& f) {
     for (uint32_t by = t.texelMin[1] / texelsPerBin_; by <= t.texelMax[1] / texelsPerBin_; ++by)
       for (uint32_t bx = t.texelMin[0] / texelsPerBin_; bx <= t.texelMax[0] / texelsPerBin_; ++bx)
-        f(size_t(by) * binsPerSide_ + bx);
+        if (!edgesAt(t, int64_t(bx) * texelsPerBin_, int64_t(by) * texelsPerBin_)
+                 .miss(texelsPerBin_, texelsPerBin_))
+          f(size_t(by) * binsPerSide_ + bx);
   };
   for (const FixedTriangle& t : triangles_)
     forEachBin(t, [&](size_t bin) { ++binStart_[bin + 1]; });
@@ -108,48 +110,66 @@ LightSpaceRasterizer::LightSpaceRasterizer(const Scene& scene, const Light& ligh
     forEachBin(triangles_[index], [&](size_t bin) { binTriangles_[fill[bin]++] = index; });
 }
 
+LightSpaceRasterizer::Edges LightSpaceRasterizer::edgesAt(const FixedTriangle& t, int64_t i,
+                                                          int64_t j) const {
+  const int64_t step = 2 * halfTexel_;
+  const int64_t px = (2 * i + 1) * halfTexel_, py = (2 * j + 1) * halfTexel_;
+  // Edge k runs from vertex k+1 to vertex k+2, opposite vertex k: its function is vertex k's
+  // barycentric weight times twice the area.
+  Edges e;
+  for (int k = 0; k < 3; ++k) {
+    const int a = (k + 1) % 3, b = (k + 2) % 3;
+    const int64_t dx = int64_t(t.x[b]) - t.x[a], dy = int64_t(t.y[b]) - t.y[a];
+    e.start[k] = edge(t.x[a], t.y[a], t.x[b], t.y[b], px, py);
+    e.perColumn[k] = -dy * step;
+    e.perRow[k] = dx * step;
+    e.need[k] = ownsEdge(dx, dy) ? 0 : 1;
+  }
+  return e;
+}
+
+bool LightSpaceRasterizer::Edges::miss(int64_t columns, int64_t rows) const {
+  // Edge functions are linear: a rectangle lies outside an edge when its best corner does.
+  for (int k = 0; k < 3; ++k)
+    if (start[k] + std::max<int64_t>(0, perColumn[k] * (columns - 1)) +
+            std::max<int64_t>(0, perRow[k] * (rows - 1)) <
+        need[k])
+      return true;
+  return false;
+}
+
 template <class Visit>
 void LightSpaceRasterizer::coverTexels(const FixedTriangle& t, int64_t i0, int64_t i1, int64_t j0,
                                        int64_t j1, Visit&& visit) const {
   i0 = std::max<int64_t>(i0, t.texelMin[0]), i1 = std::min<int64_t>(i1, t.texelMax[0]);
   j0 = std::max<int64_t>(j0, t.texelMin[1]), j1 = std::min<int64_t>(j1, t.texelMax[1]);
   if (i0 > i1 || j0 > j1) return;
-  const int64_t step = 2 * halfTexel_;
-  const int64_t px = (2 * i0 + 1) * halfTexel_, py = (2 * j0 + 1) * halfTexel_;
-  // Edge k runs from vertex k+1 to vertex k+2, opposite vertex k: its function is vertex k's
-  // barycentric weight times twice the area.
-  int64_t rowStart[3], dxStep[3], dyStep[3];
-  bool owned[3];
-  for (int k = 0; k < 3; ++k) {
-    const int a = (k + 1) % 3, b = (k + 2) % 3;
-    const int64_t dx = int64_t(t.x[b]) - t.x[a], dy = int64_t(t.y[b]) - t.y[a];
-    rowStart[k] = edge(t.x[a], t.y[a], t.x[b], t.y[b], px, py);
-    dxStep[k] = -dy * step;
-    dyStep[k] = dx * step;
-    owned[k] = ownsEdge(dx, dy);
-  }
-  const double inverseArea = 1.0 / double(rowStart[0] + rowStart[1] + rowStart[2]);
+  Edges e = edgesAt(t, i0, j0);
+  if (e.miss(i1 - i0 + 1, j1 - j0 + 1)) return;  // a sliver's bounding box, not the sliver
+  const double inverseArea = 1.0 / double(e.start[0] + e.start[1] + e.start[2]);
   const float zMin = std::min({t.z[0], t.z[1], t.z[2]}), zMax = std::max({t.z[0], t.z[1], t.z[2]});
+  // Rows of a wide triangle solve their span by division; a narrow one tests each texel, which
+  // is cheaper than three divisions. Both decide exactly the same coverage.
+  const bool solveSpans = i1 - i0 >= 16;
   for (int64_t j = j0; j <= j1; ++j) {
-    // The span of the row inside all three edges, solved exactly: w_k + n·step_k ≥ threshold_k.
     int64_t first = 0, last = i1 - i0;
-    for (int k = 0; k < 3; ++k) {
-      const int64_t need = owned[k] ? 0 : 1;
-      if (dxStep[k] > 0)
-        first = std::max(first, ceilDiv(need - rowStart[k], dxStep[k]));
-      else if (dxStep[k] < 0)
-        last = std::min(last, floorDiv(rowStart[k] - need, -dxStep[k]));
-      else if (rowStart[k] < need)
+    for (int k = 0; k < 3 && solveSpans; ++k) {
+      if (e.perColumn[k] > 0)
+        first = std::max(first, ceilDiv(e.need[k] - e.start[k], e.perColumn[k]));
+      else if (e.perColumn[k] < 0)
+        last = std::min(last, floorDiv(e.start[k] - e.need[k], -e.perColumn[k]));
+      else if (e.start[k] < e.need[k])
         last = -1;
     }
     for (int64_t n = first; n <= last; ++n) {
-      const double z = (double(rowStart[0] + n * dxStep[0]) * t.z[0] +
-                        double(rowStart[1] + n * dxStep[1]) * t.z[1] +
-                        double(rowStart[2] + n * dxStep[2]) * t.z[2]) *
-                       inverseArea;
+      const int64_t w[3] = {e.start[0] + n * e.perColumn[0], e.start[1] + n * e.perColumn[1],
+                            e.start[2] + n * e.perColumn[2]};
+      if (!solveSpans && (w[0] < e.need[0] || w[1] < e.need[1] || w[2] < e.need[2])) continue;
+      const double z =
+          (double(w[0]) * t.z[0] + double(w[1]) * t.z[1] + double(w[2]) * t.z[2]) * inverseArea;
       visit(i0 + n, j, std::clamp(float(z), zMin, zMax));
     }
-    for (int k = 0; k < 3; ++k) rowStart[k] += dyStep[k];
+    for (int k = 0; k < 3; ++k) e.start[k] += e.perRow[k];
   }
 }
 

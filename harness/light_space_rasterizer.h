@@ -37,6 +37,15 @@ class LightSpaceRasterizer {
     uint32_t mesh;
   };
 
+  // The three edge functions of a triangle at texel (i, j)'s centre and their steps per texel
+  // column and row; `need` is the least value inside (0 on an edge the triangle owns, else 1).
+  struct Edges {
+    int64_t start[3], perColumn[3], perRow[3], need[3];
+    // No texel of the columns × rows rectangle starting at (i, j) is inside.
+    bool miss(int64_t columns, int64_t rows) const;
+  };
+  Edges edgesAt(const FixedTriangle& t, int64_t i, int64_t j) const;
+
   template <class Visit>
   void coverTexels(const FixedTriangle& t, int64_t i0, int64_t i1, int64_t j0, int64_t j1,
                    Visit&& visit) const;
