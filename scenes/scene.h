@@ -33,8 +33,8 @@ enum class DepthDistribution { Linear, Logarithmic };
 struct LightSpec {
   LightKind kind = LightKind::Directional;
   glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world-space direction in which the light travels
-  glm::vec3 position{0.0f};                 // spot lights only
-  float fovDegrees = 60.0f;                 // spot lights only: full opening angle
+  glm::vec3 position{0.0f};                // spot lights only
+  float fovDegrees = 60.0f;                // spot lights only: full opening angle
   DepthDistribution depth = DepthDistribution::Linear;  // spot lights only
 };
 

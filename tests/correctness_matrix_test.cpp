@@ -56,7 +56,8 @@ void checkCell(const SchemeInfo& scheme, const std::string& sceneName, DepthMode
 }  // namespace
 
 TEST_CASE("every scheme is lossless on every scene and mode", "[matrix]") {
-  const auto sceneName = GENERATE(as<std::string>{}, "city", "terrain", "forest", "tangle", "spot-city");
+  const auto sceneName =
+      GENERATE(as<std::string>{}, "city", "terrain", "forest", "tangle", "spot-city");
   const DepthMode mode = GENERATE(DepthMode::Open, DepthMode::Closed, DepthMode::Static);
   for (const SchemeInfo& scheme : schemes()) {
     SECTION(scheme.name + " exhaustive") {
