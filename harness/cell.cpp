@@ -9,6 +9,7 @@
 #include "harness/progress.h"
 #include "harness/query_sets.h"
 #include "harness/record.h"
+#include "schemes/interface/lightspace.h"
 #include "schemes/interface/serial.h"
 
 namespace sb {
@@ -37,7 +38,7 @@ uint32_t parseResolution(std::string_view text) {
   bool ok = !digits.empty() && digits.size() < 10;
   for (char c : digits) ok = ok && c >= '0' && c <= '9', value = value * 10 + uint64_t(c - '0');
   value *= multiplier;
-  if (!ok || value < 8 || value > (1u << 20) || (value & (value - 1)) != 0)
+  if (!ok || !validResolution(value))
     throw std::invalid_argument(fmt::format(
         "resolution '{}' must be a power of two from 8 to 1024K (e.g. 512, 4K, 64K)", text));
   return uint32_t(value);
@@ -79,6 +80,7 @@ nlohmann::json runCell(const CellSpec& cell, const Scene& scene, const CellOptio
   nlohmann::json record = cellIdentity(cell, scene);
   const Light light = sceneLight(scene, cell.lightIndex);
   const uint32_t tileSize = cell.tileSize ? cell.tileSize : defaultTileSize(cell.resolution);
+  // Refuse before the depth source spends time on the scene (buildStructure checks again).
   checkBuildFits(scheme, mapFor(scheme, cell.mode, cell.resolution), scheme.resolve(cell.params));
   const DepthSource source(scene, light, cell.mode, cell.resolution);
 

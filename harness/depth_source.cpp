@@ -13,6 +13,7 @@
 
 #include "harness/crossings.h"
 #include "harness/light_space_rasterizer.h"
+#include "schemes/interface/lightspace.h"
 #include "schemes/interface/morton.h"
 
 namespace sb {
@@ -77,7 +78,7 @@ std::string_view toString(DepthMethod method) {
 DepthSource::DepthSource(const Scene& scene, const Light& light, DepthMode mode,
                          uint32_t resolution, DepthMethod method)
     : embree_(std::make_unique<Embree>()), light_(light), mode_(mode), resolution_(resolution) {
-  if (resolution < 8 || resolution > (1u << 20) || (resolution & (resolution - 1)) != 0)
+  if (!validResolution(resolution))
     throw std::invalid_argument(
         fmt::format("resolution {} must be a power of two in [8, 2^20]", resolution));
   embree_->device = rtcNewDevice(nullptr);

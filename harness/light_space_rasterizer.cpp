@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "harness/crossings.h"
+#include "schemes/interface/lightspace.h"
 
 namespace sb {
 
@@ -48,7 +49,7 @@ LightSpaceRasterizer::LightSpaceRasterizer(const Scene& scene, const Light& ligh
     : resolution_(resolution) {
   if (light.kind() != LightKind::Directional)
     throw std::invalid_argument("the light-space rasteriser handles directional lights only");
-  if (resolution < 8 || resolution > (1u << 20) || !std::has_single_bit(resolution))
+  if (!validResolution(resolution))
     throw std::invalid_argument(
         fmt::format("resolution {} must be a power of two in [8, 2^20]", resolution));
   halfTexel_ = int64_t(1) << (kFixedBits - 1 - std::countr_zero(resolution));

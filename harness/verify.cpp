@@ -91,8 +91,8 @@ struct Checker {
     mismatches += wrong;
   }
 
-  // Checks the texels of the window's core selected by `select(i, j)`; `pcfEvery` picks the
-  // texels that also get PCF lookups.
+  // Checks the texels of the window's core selected by `select(i, j)`; `pcf(hash, k)` picks
+  // the texels that also get a k×k PCF lookup.
   template <class Select, class PcfSelect>
   void checkWindow(const ReferenceWindow& window, int64_t cx, int64_t cy, Select select,
                    PcfSelect pcf, uint64_t seed) {

@@ -7,6 +7,12 @@
 
 namespace sb {
 
+// Resolutions are powers of two — tiles, Morton order and quadtrees need it — from 8 to 2^20.
+inline constexpr uint32_t kMinResolution = 8, kMaxResolution = 1u << 20;
+inline bool validResolution(uint64_t r) {
+  return r >= kMinResolution && r <= kMaxResolution && (r & (r - 1)) == 0;
+}
+
 // The texel coordinate ⌊x·R⌋; anything outside [0, R) (including NaN) means "outside the map".
 inline int64_t texelOf(float x, uint32_t resolution) {
   const float scaled = std::floor(x * float(resolution));  // exact: R is a power of two

@@ -4,8 +4,10 @@
 #include <iterator>
 
 #include <fmt/format.h>
-#include <xxhash.h>
 #include <nlohmann/json.hpp>
+#include <xxhash.h>
+
+#include "schemes/interface/lightspace.h"
 
 namespace sb {
 
@@ -40,7 +42,7 @@ StructureHeader parseHeader(std::string_view text) {
     throw FormatError(fmt::format("structure header is invalid: {}", error.what()));
   }
   const uint32_t r = header.map.resolution;
-  if (r < 8 || r > (1u << 20) || (r & (r - 1)) != 0)
+  if (!validResolution(r))
     throw FormatError(
         fmt::format("structure header: resolution {} is not a power of two in [8, 2^20]", r));
   return header;
