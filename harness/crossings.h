@@ -32,12 +32,20 @@ inline bool sameCrossing(const Crossing& a, const Crossing& b) {
          std::abs(a.z - b.z) <= 1e-6f * std::max(std::abs(a.z), std::abs(b.z));
 }
 
-// The nearest kMaxCrossings crossings of a ray, in order. At equal depth an entry sorts before
-// an exit, so that touching closed objects (a building standing on the ground slab) count as
+// The nearest crossings of a ray (at most kMaxCrossings), in order. At equal depth an entry sorts
+// before an exit, so that touching closed objects (a building standing on the ground slab) count as
 // one union.
 struct CrossingList {
   Crossing nearest[kMaxCrossings];
   int count = 0;
+  int capacity = kMaxCrossings;
+
+  // Empties the list for a texel in `mode`: static mode needs only the two nearest crossings,
+  // which spares deep scenes most of the insertion work.
+  void clear(DepthMode mode) {
+    count = 0;
+    capacity = mode == DepthMode::Static ? 2 : kMaxCrossings;
+  }
 
   // For ray casting, whose reports of one surface may repeat (sameCrossing).
   void insertOnce(Crossing c) {
@@ -50,7 +58,7 @@ struct CrossingList {
     auto before = [](const Crossing& a, const Crossing& b) {
       return a.z < b.z || (a.z == b.z && a.sign > b.sign);
     };
-    if (count == kMaxCrossings) {
+    if (count == capacity) {
       if (!before(c, nearest[count - 1])) return;
       --count;
     }

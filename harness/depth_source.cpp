@@ -161,6 +161,7 @@ DepthSource::Packet DepthSource::tracePacket(uint32_t i0, uint32_t j0) const {
   }
 
   CrossingList lists[kPacketSize];
+  for (CrossingList& list : lists) list.clear(mode_);
   context.embree.filter = gatherCrossings;
   context.light = &light_;
   context.closedByGeometry = embree_->closedByGeometry.data();

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "harness/crossings.h"
 #include "schemes/interface/lightspace.h"
@@ -109,6 +110,18 @@ LightSpaceRasterizer::LightSpaceRasterizer(const Scene& scene, const Light& ligh
   std::vector<uint32_t> fill(binStart_.begin(), binStart_.end() - 1);
   for (uint32_t index = 0; index < triangles_.size(); ++index)
     forEachBin(triangles_[index], [&](size_t bin) { binTriangles_[fill[bin]++] = index; });
+  // Nearest first: crossings then mostly arrive in depth order, so a texel's list appends
+  // instead of shifting, and a full list turns the rest away with one comparison. The order is
+  // a pure function of the scene, as determinism needs.
+  auto nearestFirst = [&](uint32_t a, uint32_t b) {
+    const float za = *std::min_element(triangles_[a].z, triangles_[a].z + 3);
+    const float zb = *std::min_element(triangles_[b].z, triangles_[b].z + 3);
+    return za < zb || (za == zb && a < b);
+  };
+  tbb::parallel_for(size_t(0), binStart_.size() - 1, [&](size_t bin) {
+    std::sort(binTriangles_.begin() + binStart_[bin], binTriangles_.begin() + binStart_[bin + 1],
+              nearestFirst);
+  });
 }
 
 LightSpaceRasterizer::Edges LightSpaceRasterizer::edgesAt(const FixedTriangle& t, int64_t i,
@@ -189,7 +202,7 @@ uint64_t LightSpaceRasterizer::rasterize(uint32_t x0, uint32_t y0, uint32_t w, u
         nearest.assign(size_t(bw) * bh, kInfinity);
       } else {
         lists.resize(size_t(bw) * bh);
-        for (CrossingList& list : lists) list.count = 0;  // no need to clear the entries
+        for (CrossingList& list : lists) list.clear(mode);
       }
       // Each texel centre lies in exactly one bin, so it meets each triangle once, in bin order.
       for (uint32_t binY = by / texelsPerBin_; binY <= (by + bh - 1) / texelsPerBin_; ++binY)

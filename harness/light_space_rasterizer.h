@@ -54,8 +54,8 @@ class LightSpaceRasterizer {
   int64_t halfTexel_;  // half a texel in fixed-point units: texel i's centre is (2i + 1)·halfTexel_
   uint32_t texelsPerBin_, binsPerSide_;
   std::vector<FixedTriangle> triangles_;
-  // Triangle indices per bin of texels, in ascending order (compressed rows): the order in
-  // which a texel meets its triangles is fixed, so its crossings are too.
+  // Triangle indices per bin of texels (compressed rows), nearest first: the order in which a
+  // texel meets its triangles is fixed, so its crossings are too.
   std::vector<uint32_t> binStart_, binTriangles_;
 };
 
