@@ -3,28 +3,17 @@
 #include <cmath>
 
 #include <tbb/parallel_for.h>
+
 #include <glm/gtc/constants.hpp>
+#include "schemes/interface/splitmix.h"
 
 namespace sb {
-
-namespace {
-
-uint64_t splitmix(uint64_t& state) {
-  uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-float unitFloat(uint64_t& state) {
-  return float(splitmix(state) >> 40) * 0x1.0p-24f;
-}
-
-}  // namespace
 
 QuerySet uniformQueries(uint64_t count, uint64_t seed) {
   QuerySet set{"uniform", std::vector<Query>(count)};
   uint64_t state = seed;
-  for (Query& q : set.queries) q = {unitFloat(state), unitFloat(state), unitFloat(state)};
+  for (Query& q : set.queries)
+    q = {unitFloat(nextRandom(state)), unitFloat(nextRandom(state)), unitFloat(nextRandom(state))};
   return set;
 }
 

@@ -7,7 +7,9 @@
 #include <mutex>
 
 #include <tbb/parallel_for.h>
+
 #include <nlohmann/json.hpp>
+#include "schemes/interface/splitmix.h"
 
 namespace sb {
 
@@ -16,16 +18,6 @@ namespace {
 // Windows are checked in their core; the halo holds the taps of a 17×17 PCF around it.
 constexpr int64_t kCore = 64, kHalo = 8;
 constexpr size_t kMaxExamples = 16;
-
-uint64_t mix(uint64_t x) {  // SplitMix64's finaliser: a seeded hash of texel coordinates
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-float unit(uint64_t h) {
-  return float(h >> 40) * 0x1.0p-24f;
-}
 
 // A position inside texel (i, j), jittered so that schemes are tested off the texel centre.
 float insideTexel(int64_t i, float jitter, uint32_t resolution) {
@@ -103,9 +95,9 @@ struct Checker {
     for (int64_t j = cy; j < y1; ++j)
       for (int64_t i = cx; i < x1; ++i) {
         if (!select(i, j)) continue;
-        const uint64_t h = mix(seed ^ mix(uint64_t(i) << 32 | uint64_t(j)));
-        const Query at{insideTexel(i, unit(h), map.resolution),
-                       insideTexel(j, unit(mix(h)), map.resolution), 0};
+        const uint64_t h = mixBits(seed ^ mixBits(uint64_t(i) << 32 | uint64_t(j)));
+        const Query at{insideTexel(i, unitFloat(h), map.resolution),
+                       insideTexel(j, unitFloat(mixBits(h)), map.resolution), 0};
         float depths[7];
         const int n = probeDepths(window.at(i, j), depths);
         for (int d = 0; d < n; ++d) {
@@ -119,7 +111,7 @@ struct Checker {
         for (size_t f = 1; f < std::size(kFilters); ++f) {
           if (!pcf(h, kFilters[f])) continue;
           // PCF at the texel's own surface, just behind it, and at a random depth.
-          const float pcfDepths[] = {depths[0], depths[n - 1], unit(mix(h ^ kFilters[f]))};
+          const float pcfDepths[] = {depths[0], depths[n - 1], unitFloat(mixBits(h ^ kFilters[f]))};
           for (float z : pcfDepths) {
             batches[f].queries.push_back({at.x, at.y, z});
             batches[f].expected.push_back(
@@ -181,7 +173,7 @@ VerifyReport verify(const Decoder& decoder, SchemeKind kind, const MapInfo& map,
     while (checker.queries.load() < options.sampledQueries) {
       const uint64_t first = round.fetch_add(64);
       tbb::parallel_for(first, first + 64, [&](uint64_t n) {
-        const uint64_t h = mix(options.seed ^ mix(n));
+        const uint64_t h = mixBits(options.seed ^ mixBits(n));
         const int64_t cx = int64_t(h % uint64_t(windowsPerSide)) * kCore;
         const int64_t cy = int64_t((h >> 32) % uint64_t(windowsPerSide)) * kCore;
         const ReferenceWindow window = windowAround(source, cx, cy);
@@ -189,7 +181,7 @@ VerifyReport verify(const Decoder& decoder, SchemeKind kind, const MapInfo& map,
             window, cx, cy,
             [&](int64_t i, int64_t j) {
               return onBoundary(window, i, j) ||
-                     mix(h ^ (uint64_t(i) << 32 | uint64_t(j))) % 16 == 0;
+                     mixBits(h ^ (uint64_t(i) << 32 | uint64_t(j))) % 16 == 0;
             },
             [](uint64_t hh, int k) { return (hh >> 8) % (k <= 9 ? 2 : 8) == 0; }, h);
         reportProgress();

@@ -10,6 +10,7 @@
 
 #include "schemes/interface/morton.h"
 #include "schemes/interface/scheme.h"
+#include "schemes/interface/splitmix.h"
 
 namespace sb::testing {
 
@@ -29,13 +30,8 @@ struct SyntheticMap {
     map.lo.resize(size_t(resolution) * resolution);
     map.hi.resize(map.lo.size());
     uint64_t state = seed;
-    auto next = [&] {
-      uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-      z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-      return z ^ (z >> 31);
-    };
-    auto unit = [&] { return float(next() >> 40) * 0x1.0p-24f; };
+    auto next = [&] { return nextRandom(state); };
+    auto unit = [&] { return unitFloat(next()); };
     const uint32_t block = std::max(1u, resolution / 8);
     std::vector<float> plateau(64), slope(64);
     for (size_t b = 0; b < 64; ++b) plateau[b] = unit() * 0.9f, slope[b] = (unit() - 0.5f) * 0.01f;
