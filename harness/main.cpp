@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -254,12 +255,34 @@ int query(const Options& o) {
   return 0;
 }
 
+// The --param assignments that `scheme` declares. A sweep's parameters go only to the schemes
+// that have them, so one sweep can set a parameter of one scheme (culling=off) beside others.
+Params declaredParams(const SchemeInfo& scheme, const Params& given) {
+  Params own;
+  for (const ParamSpec& spec : scheme.params)
+    if (const auto it = given.find(spec.name); it != given.end()) own.insert(*it);
+  return own;
+}
+
 int sweep(const Options& o) {
   std::vector<std::string> schemeNames = splitList(o.sweepSchemes);
   if (o.sweepSchemes == "all") {
     schemeNames.clear();
     for (const SchemeInfo& s : schemes()) schemeNames.push_back(s.name);
   }
+  // Checked before the first build: a misspelt name or a bad value is an error, not a sweep of
+  // default cells or of failed ones.
+  const Params params = parseParams(o.params);
+  std::set<std::string> declared;
+  for (const std::string& name : schemeNames) {
+    const SchemeInfo& scheme = findScheme(name);
+    scheme.resolve(declaredParams(scheme, params));  // throws on a bad value
+    for (const ParamSpec& spec : scheme.params) declared.insert(spec.name);
+  }
+  for (const auto& [name, value] : params)
+    if (!declared.count(name))
+      throw std::invalid_argument(
+          fmt::format("no swept scheme has a parameter '{}' (see 'shadowbench schemes')", name));
   CellOptions options;
   options.benchLookups = !o.noBench;
   options.verifyOptions.sampledQueries = o.sampledQueries;
@@ -267,9 +290,10 @@ int sweep(const Options& o) {
   for (const std::string& spec : splitList(o.sweepScenes)) {
     const Scene scene = openScene(spec);
     for (const std::string& mode : splitList(o.sweepModes))
-      for (const std::string& name : schemeNames)
+      for (const std::string& name : schemeNames) {
+        const Params own = declaredParams(findScheme(name), params);
         for (const std::string& res : splitList(o.sweepResolutions)) {
-          const CellSpec cell{spec, 0, depthModeFromString(mode), name, {}, parseResolution(res),
+          const CellSpec cell{spec, 0, depthModeFromString(mode), name, own, parseResolution(res),
                               0};
           const fs::path path =
               fs::path(o.sweepOut) / (cellKey(cellIdentity(cell, scene)) + ".json");
@@ -289,6 +313,7 @@ int sweep(const Options& o) {
             ++failed;
           }
         }
+      }
   }
   fmt::print("sweep: {} cells built, {} already done, {} failed or mismatched\n", done, skipped,
              failed);
@@ -386,6 +411,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   sweepCmd->add_option("--resolutions", o.sweepResolutions, "comma-separated resolutions")
       ->capture_default_str();
+  sweepCmd->add_option("--param,-p", o.params,
+                       "scheme parameter name=value for the swept schemes that declare it "
+                       "(repeatable); it names the cells' records");
   sweepCmd->add_option("--out", o.sweepOut, "records folder (finished cells there are skipped)")
       ->capture_default_str();
   sweepCmd->add_flag("--no-bench", o.noBench, "skip lookup timings");
