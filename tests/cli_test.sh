@@ -33,11 +33,11 @@ for bad in "build -r 3000" "build --scheme nope" "build -p nope=1" "build --scen
   [ $rc -eq 2 ] && [ "$(wc -l < "$work/err.txt")" -eq 1 ] || fail "'$bad': rc $rc, $(cat "$work/err.txt")"
 done
 
-"$sb" sweep --scenes city --resolutions 64,128 --out "$work/sweep" --no-bench > "$work/sweep1.txt"
+"$sb" sweep --schemes sm32 --scenes city --resolutions 64,128 --out "$work/sweep" --no-bench > "$work/sweep1.txt"
 grep -q "2 cells built, 0 already done" "$work/sweep1.txt" || fail "first sweep: $(tail -1 "$work/sweep1.txt")"
 rm "$(ls "$work/sweep"/*128.json)"
 echo '{"format": "shadowbench-record/1", "compl' > "$work/sweep/partial.json"
-"$sb" sweep --scenes city --resolutions 64,128 --out "$work/sweep" --no-bench > "$work/sweep2.txt"
+"$sb" sweep --schemes sm32 --scenes city --resolutions 64,128 --out "$work/sweep" --no-bench > "$work/sweep2.txt"
 grep -q "1 cells built, 1 already done" "$work/sweep2.txt" || fail "resumed sweep: $(grep sweep: "$work/sweep2.txt")"
 "$sb" table "$work/sweep" | grep -q "| sm32 |" || fail "table from records"
 [ -f "$work/sweep/tables/tables.md" ] || fail "tables.md not written"

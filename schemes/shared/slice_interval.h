@@ -1,0 +1,92 @@
+// The voxel view of the dual depth map (DESIGN §4) shared by the voxel schemes: each texel's
+// column of Rz slices splits into lit, undefined and shadowed runs, and a min-max pyramid over
+// 8×8 texel blocks classifies whole volumes at once (Sintorn §6.1, Kämpe §3).
+#pragma once
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+#include "schemes/interface/scheme.h"
+
+namespace sb {
+
+// Slices [0, litEnd) are lit (centre ≤ lo), [shadowBegin, Rz) are shadowed (centre > hi), and
+// the slices between lie in the undefined band. litEnd ≤ shadowBegin because lo ≤ hi.
+struct SliceInterval {
+  uint32_t litEnd, shadowBegin;
+};
+
+// The number of slices k whose centre (k + ½)/Rz is ≤ depth, which is the first slice beyond it.
+// The centre is exact in float for k < 2^23 and depth·Rz is exact (Rz a power of two), so the
+// comparison in double decides exactly as the reference's float test voxelCentre(k) ≤ depth.
+inline uint32_t firstSliceBeyond(float depth, uint32_t depthResolution) {
+  const double scaled = double(depth) * depthResolution;
+  if (!(scaled >= 0.5)) return 0;
+  return uint32_t(std::min<double>(depthResolution, std::floor(scaled - 0.5) + 1.0));
+}
+
+// The tile's slice intervals, row-major like the tile.
+inline std::vector<SliceInterval> sliceIntervals(const DualDepthTile& tile,
+                                                 uint32_t depthResolution) {
+  std::vector<SliceInterval> intervals(tile.lo.size());
+  for (size_t t = 0; t < intervals.size(); ++t)
+    intervals[t] = {firstSliceBeyond(tile.lo[t], depthResolution),
+                    firstSliceBeyond(tile.hi[t], depthResolution)};
+  return intervals;
+}
+
+// A pyramid over the 8×8 texel blocks of a square tile holding, per footprint, the smallest
+// slice at which some voxel may no longer be lit and the largest slice before which some voxel
+// must still be lit. A volume over slices [z0, z1] can be entirely lit when z1 < litUntil and
+// entirely shadowed when z0 ≥ shadowFrom (the min-max hierarchy of Sintorn §6.1).
+class BlockPyramid {
+ public:
+  static constexpr uint32_t kBlock = 8;
+  struct Bounds {
+    uint32_t litUntil, shadowFrom;
+  };
+
+  // `blockBounds` gives the bounds of block (bx, by); the tile has `tileSize` texels per side.
+  template <class BlockBounds>
+  BlockPyramid(uint32_t tileSize, BlockBounds&& blockBounds) {
+    for (uint32_t side = tileSize / kBlock; side >= 1; side /= 2) {
+      levels_.emplace_back(size_t(side) * side);
+      sides_.push_back(side);
+    }
+    auto& base = levels_[0];
+    for (uint32_t by = 0; by < sides_[0]; ++by)
+      for (uint32_t bx = 0; bx < sides_[0]; ++bx)
+        base[size_t(by) * sides_[0] + bx] = blockBounds(bx, by);
+    for (size_t l = 1; l < levels_.size(); ++l)
+      for (uint32_t y = 0; y < sides_[l]; ++y)
+        for (uint32_t x = 0; x < sides_[l]; ++x) {
+          Bounds merged{~0u, 0};
+          for (uint32_t c = 0; c < 4; ++c) {
+            const Bounds& child = at(l - 1, 2 * x + (c & 1), 2 * y + (c >> 1));
+            merged.litUntil = std::min(merged.litUntil, child.litUntil);
+            merged.shadowFrom = std::max(merged.shadowFrom, child.shadowFrom);
+          }
+          levels_[l][size_t(y) * sides_[l] + x] = merged;
+        }
+  }
+
+  // The bounds of the footprint of `side` texels (a multiple of 8) whose tile-local origin is
+  // (x, y).
+  const Bounds& footprint(uint32_t x, uint32_t y, uint32_t side) const {
+    const uint32_t level = uint32_t(std::countr_zero(side / kBlock));
+    return at(level, x / side, y / side);
+  }
+
+ private:
+  const Bounds& at(size_t level, uint32_t x, uint32_t y) const {
+    return levels_[level][size_t(y) * sides_[level] + x];
+  }
+  std::vector<std::vector<Bounds>> levels_;
+  std::vector<uint32_t> sides_;
+};
+
+}  // namespace sb

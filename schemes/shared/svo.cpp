@@ -1,0 +1,139 @@
+#include "schemes/shared/svo.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "schemes/interface/morton.h"
+
+namespace sb {
+
+SvoChild::Kind resolveByParent(std::array<SvoChild, 8>& children) {
+  bool lit = false, shadowed = false, undefined = false, nodes = false;
+  for (const SvoChild& child : children) {
+    lit |= child.kind == SvoChild::Lit;
+    shadowed |= child.kind == SvoChild::Shadowed;
+    undefined |= child.kind == SvoChild::Undefined;
+    nodes |= !child.homogeneous();
+  }
+  if (!nodes && !lit && !shadowed) return SvoChild::Undefined;
+  if (!nodes && !shadowed) return SvoChild::Lit;
+  if (!nodes && !lit) return SvoChild::Shadowed;
+  if (undefined)
+    for (SvoChild& child : children)
+      if (child.kind == SvoChild::Undefined) child.kind = SvoChild::Shadowed;
+  return SvoChild::Local;
+}
+
+LocalSvo::LocalSvo(VoxelDagShape shape)
+    : shape_(shape), nodes_(shape.leafParentDepth() + 1), nodeRefs_(shape.leafParentDepth() + 1) {}
+
+SvoChild LocalSvo::addLeafmask(uint64_t litVoxels) {
+  if (litVoxels == ~uint64_t(0)) return {SvoChild::Lit};
+  if (litVoxels == 0) return {SvoChild::Shadowed};
+  ++inserted_;
+  leafmasks_.push_back(litVoxels);
+  return {SvoChild::Local, uint32_t(leafmasks_.size() - 1)};
+}
+
+SvoChild LocalSvo::addNode(uint32_t depth, const std::array<SvoChild, 8>& children) {
+  ++inserted_;
+  nodes_[depth].push_back(children);
+  return {SvoChild::Local, uint32_t(nodes_[depth].size() - 1)};
+}
+
+DagRef LocalSvo::ref(SvoChild child, uint32_t depth) const {
+  switch (child.kind) {
+    case SvoChild::Lit:
+      return kLitRef;
+    case SvoChild::Shadowed:
+    case SvoChild::Undefined:
+      return kShadowedRef;
+    case SvoChild::Global:
+      return child.index;
+    case SvoChild::Local:
+      return depth > shape_.leafParentDepth() ? leafmaskRefs_[child.index]
+                                              : nodeRefs_[depth][child.index];
+  }
+  return kShadowedRef;
+}
+
+SvoChild LocalSvo::merge(SvoChild root, uint32_t rootDepth, VoxelDagBuilder& dag) {
+  leafmaskRefs_.resize(leafmasks_.size());
+  for (size_t i = 0; i < leafmasks_.size(); ++i) leafmaskRefs_[i] = dag.leafmask(leafmasks_[i]);
+  for (uint32_t d = shape_.leafParentDepth() + 1; d-- > 0;) {
+    nodeRefs_[d].resize(nodes_[d].size());
+    std::array<DagRef, 8> refs;
+    for (size_t i = 0; i < nodes_[d].size(); ++i) {
+      for (uint32_t c = 0; c < 8; ++c) refs[c] = ref(nodes_[d][i][c], d + 1);
+      nodeRefs_[d][i] = dag.node(d, refs);
+    }
+  }
+  return merged(root, rootDepth);
+}
+
+SvoChild LocalSvo::merged(SvoChild child, uint32_t depth) const {
+  return child.kind == SvoChild::Local ? SvoChild::of(ref(child, depth)) : child;
+}
+
+void LocalSvo::clear() {
+  leafmasks_.clear();
+  for (auto& level : nodes_) level.clear();
+}
+
+uint32_t cubeTileSize(const DualDepthTile& tile) {
+  if (tile.width != tile.height || tile.width < 8 || (tile.width & (tile.width - 1)) != 0)
+    throw std::invalid_argument(
+        fmt::format("CPVS: tiles must be square with a power-of-two side of at least 8, got {}×{}",
+                    tile.width, tile.height));
+  return tile.width;
+}
+
+void TileColumns::add(uint32_t x0, uint32_t y0, uint32_t tileSize, std::vector<SvoChild> cubes,
+                      VoxelDagBuilder& dag) {
+  if (tileSize_ == 0) tileSize_ = tileSize;
+  if (tileSize != tileSize_ || x0 % tileSize != 0 || y0 % tileSize != 0 ||
+      mortonCode(x0 / tileSize, y0 / tileSize) != tilesSeen_)
+    throw std::invalid_argument(
+        fmt::format("CPVS: tile at ({}, {}) of size {} is out of Morton order or of another size",
+                    x0, y0, tileSize));
+  ++tilesSeen_;
+  stack_.push_back({tileSize, std::move(cubes)});
+  const uint32_t resolution = 1u << shape_.levels;
+  // Four columns of one size in a row are the quadrants of the next (Morton order).
+  while (stack_.size() >= 4 && stack_.back().side < resolution &&
+         stack_[stack_.size() - 4].side == stack_.back().side) {
+    const uint32_t side = stack_.back().side * 2;
+    const uint32_t depth = shape_.levels - uint32_t(std::countr_zero(side));
+    const Column* quadrants = &stack_[stack_.size() - 4];
+    Column parent{side, std::vector<SvoChild>(resolution / side)};
+    for (uint32_t m = 0; m < parent.cubes.size(); ++m) {
+      std::array<SvoChild, 8> children;
+      for (uint32_t c = 0; c < 8; ++c) children[c] = quadrants[c & 3].cubes[2 * m + (c >> 2)];
+      const SvoChild::Kind kind = resolveByParent(children);
+      if (kind != SvoChild::Local) {
+        parent.cubes[m] = {kind};
+        continue;
+      }
+      std::array<DagRef, 8> refs;
+      for (uint32_t c = 0; c < 8; ++c)
+        refs[c] = children[c].kind == SvoChild::Lit        ? kLitRef
+                  : children[c].kind == SvoChild::Shadowed ? kShadowedRef
+                                                           : children[c].index;
+      parent.cubes[m] = SvoChild::of(dag.node(depth, refs));
+    }
+    stack_.resize(stack_.size() - 4);
+    stack_.push_back(std::move(parent));
+  }
+}
+
+DagRef TileColumns::root() const {
+  if (stack_.size() != 1 || stack_[0].side != (1u << shape_.levels))
+    throw std::logic_error("CPVS: not every tile arrived");
+  const SvoChild root = stack_[0].cubes[0];
+  return root.kind == SvoChild::Shadowed ? kShadowedRef
+         : root.kind == SvoChild::Global ? root.index
+                                         : kLitRef;
+}
+
+}  // namespace sb

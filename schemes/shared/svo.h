@@ -1,0 +1,91 @@
+// Building a CPVS cube by cube (Sintorn §6.1 tiled construction; Kämpe §3 "insert" and
+// "merge"): a cube's sparse voxel octree is inserted into a LocalSvo, merged into the global
+// VoxelDagBuilder, and the tiles' columns of cubes are joined into the top of the octree.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "schemes/shared/voxel_dag.h"
+
+namespace sb {
+
+// A child volume while the tree is built: homogeneous (lit, shadowed, or undefined — inside
+// closed geometry or between the static layers, free to take either value), a node of the
+// LocalSvo being built, or a node already in the DAG.
+struct SvoChild {
+  enum Kind : uint8_t { Lit, Shadowed, Undefined, Local, Global };
+  Kind kind = Lit;
+  uint32_t index = 0;
+
+  static SvoChild of(DagRef ref) {
+    return ref == kLitRef        ? SvoChild{Lit}
+           : ref == kShadowedRef ? SvoChild{Shadowed}
+                                 : SvoChild{Global, ref};
+  }
+  bool homogeneous() const { return kind <= Undefined; }
+};
+
+// Sintorn §6.1: once its children are known the parent decides the undefined ones — with only
+// lit (or only shadowed) siblings they join them and the parent is homogeneous; next to both,
+// they become shadowed. Returns the parent's kind: homogeneous, or Local when it needs a node.
+SvoChild::Kind resolveByParent(std::array<SvoChild, 8>& children);
+
+// The SVO nodes of one cube, inserted top-down and then merged bottom-up into the DAG.
+class LocalSvo {
+ public:
+  explicit LocalSvo(VoxelDagShape shape);
+
+  SvoChild addLeafmask(uint64_t litVoxels);
+  SvoChild addNode(uint32_t depth, const std::array<SvoChild, 8>& children);
+
+  // Moves every node into the DAG, deepest first, and gives the DAG reference of the root, a
+  // child at `rootDepth` (an undefined root stays undefined).
+  SvoChild merge(SvoChild root, uint32_t rootDepth, VoxelDagBuilder& dag);
+  // After merge(): the DAG reference of a child at `depth` (leafParentDepth() + 1: a leafmask).
+  SvoChild merged(SvoChild child, uint32_t depth) const;
+  void clear();
+
+  uint64_t inserted() const { return inserted_; }
+
+ private:
+  DagRef ref(SvoChild child, uint32_t depth) const;
+
+  VoxelDagShape shape_;
+  std::vector<uint64_t> leafmasks_;
+  std::vector<DagRef> leafmaskRefs_;
+  std::vector<std::vector<std::array<SvoChild, 8>>> nodes_;  // by depth
+  std::vector<std::vector<DagRef>> nodeRefs_;
+  uint64_t inserted_ = 0;
+};
+
+// The side of a tile the voxel schemes can build from: square, a power of two, at least 8.
+// Throws std::invalid_argument otherwise.
+uint32_t cubeTileSize(const DualDepthTile& tile);
+
+// Joins the columns of cubes that the tiles produce (tiles in Morton order, all of one size)
+// into the levels of the octree above them, resolving undefined volumes by the parent rule.
+class TileColumns {
+ public:
+  explicit TileColumns(VoxelDagShape shape) : shape_(shape) {}
+
+  // `cubes` are the tile's cubes of side `tileSize`, nearest the light first. Throws
+  // std::invalid_argument for tiles of another size or out of Morton order.
+  void add(uint32_t x0, uint32_t y0, uint32_t tileSize, std::vector<SvoChild> cubes,
+           VoxelDagBuilder& dag);
+  // The root once every tile has arrived (an undefined root is taken as lit).
+  DagRef root() const;
+
+ private:
+  struct Column {
+    uint32_t side;
+    std::vector<SvoChild> cubes;
+  };
+  VoxelDagShape shape_;
+  std::vector<Column> stack_;
+  uint32_t tileSize_ = 0;
+  uint64_t tilesSeen_ = 0;
+};
+
+}  // namespace sb
