@@ -32,19 +32,42 @@ struct VisibilityMasks {
   }
 };
 
+// Where a block's mask may change: exactly at the nearest exit depth of the cells still lit (as
+// Kämpe §3.4 words it), or at the most aligned slice between that depth and the nearest enter
+// depth of those cells — the freedom the rule leaves, used so that neighbouring blocks change at
+// the same slices and large volumes stay homogeneous.
+enum class Transitions { NearestExit, Aligned };
+
+// The slice in [earliest, latest] with the most trailing zero bits.
+uint32_t mostAlignedSlice(uint32_t earliest, uint32_t latest) {
+  for (uint32_t bit = 31; bit > 0; --bit) {
+    const uint32_t aligned = latest & ~((1u << bit) - 1);
+    if (aligned >= earliest) return aligned;
+  }
+  return latest;
+}
+
 // Kämpe §3.4: lit until the nearest exit depth; there a mask shadows every cell already past its
 // enter depth and holds until the nearest exit depth of the cells it left lit, where the next
 // mask begins, until every cell is shadowed. Each mask shadows at least one more cell. Where the
 // farthest enter depth comes before the nearest exit depth the paper's lit and shadowed regions
 // overlap; the lit region wins, as Sintorn's min-max rule keeps lit everything above the exit.
-VisibilityMasks visibilityMasks(const SliceInterval (&cells)[64], uint32_t depthResolution) {
+VisibilityMasks visibilityMasks(const SliceInterval (&cells)[64], uint32_t depthResolution,
+                                Transitions transitions) {
   VisibilityMasks masks{{0}, {~uint64_t(0)}};
   uint64_t shadowed = 0;
   while (shadowed != ~uint64_t(0)) {
-    uint32_t next = depthResolution;
+    uint32_t latest = depthResolution, earliest = depthResolution;
     for (uint32_t c = 0; c < 64; ++c)
-      if (!(shadowed >> c & 1)) next = std::min(next, cells[c].shadowBegin);
-    if (next >= depthResolution) break;
+      if (!(shadowed >> c & 1)) {
+        latest = std::min(latest, cells[c].shadowBegin);
+        earliest = std::min(earliest, cells[c].litEnd);
+      }
+    if (latest >= depthResolution) break;
+    // A mask changes only where it shadows one more cell, and after the previous change.
+    earliest = std::max(earliest, masks.starts.back() + (masks.lit.back() != ~uint64_t(0)));
+    const uint32_t next =
+        transitions == Transitions::Aligned ? mostAlignedSlice(earliest, latest) : latest;
     for (uint32_t c = 0; c < 64; ++c) shadowed |= uint64_t(cells[c].litEnd <= next) << c;
     if (masks.starts.back() == next) {
       masks.lit.back() = ~shadowed;
@@ -58,10 +81,11 @@ VisibilityMasks visibilityMasks(const SliceInterval (&cells)[64], uint32_t depth
 
 class CpvsFastEncoder final : public Encoder {
  public:
-  CpvsFastEncoder(const MapInfo& map, VoxelDagConfig config, bool culling)
+  CpvsFastEncoder(const MapInfo& map, VoxelDagConfig config, bool culling, Transitions transitions)
       : shape_(VoxelDagShape::of(map, config.layout)),
         gridLevels_(config.gridLevels),
         culling_(culling),
+        transitions_(transitions),
         dag_(shape_),
         svo_(shape_),
         columns_(shape_) {}
@@ -79,7 +103,7 @@ class CpvsFastEncoder final : public Encoder {
         SliceInterval cells[64];
         for (uint32_t c = 0; c < 64; ++c)
           cells[c] = intervals[size_t(by * 8 + c / 8) * tileSize + bx * 8 + c % 8];
-        masks_[size_t(by) * blocksPerSide_ + bx] = visibilityMasks(cells, resolution);
+        masks_[size_t(by) * blocksPerSide_ + bx] = visibilityMasks(cells, resolution, transitions_);
       }
 
     // The pyramid over the masks themselves, so that a volume is homogeneous exactly when its
@@ -225,6 +249,7 @@ class CpvsFastEncoder final : public Encoder {
   VoxelDagShape shape_;
   uint32_t gridLevels_;
   bool culling_;
+  Transitions transitions_;
   VoxelDagBuilder dag_;
   LocalSvo svo_;
   TileColumns columns_;
@@ -250,6 +275,14 @@ SchemeInfo cpvsFast() {
                          0,
                          {"on", "off"},
                          {"on", "off"}});
+  info.params.push_back({"transitions",
+                         "where a block's visibility mask changes (§3.4): at the nearest exit "
+                         "depth, or at the most aligned slice the rule allows",
+                         "aligned",
+                         0,
+                         0,
+                         {"nearest-exit", "aligned"},
+                         {"nearest-exit", "aligned"}});
   // A tile's slice intervals, visibility masks and pyramid.
   info.buildBytes = [](const MapInfo& map, const Params&) {
     const uint64_t tile = std::min<uint64_t>(map.resolution, 512);
@@ -257,8 +290,10 @@ SchemeInfo cpvsFast() {
   };
   info.makeEncoder = [](const MapInfo& map, const Params& params) -> std::unique_ptr<Encoder> {
     const SchemeInfo& scheme = findScheme("cpvs-fast");
-    return std::make_unique<CpvsFastEncoder>(map, voxelDagConfig(scheme, map, params),
-                                             scheme.resolve(params).at("culling") == "on");
+    const Params resolved = scheme.resolve(params);
+    return std::make_unique<CpvsFastEncoder>(
+        map, voxelDagConfig(scheme, map, params), resolved.at("culling") == "on",
+        resolved.at("transitions") == "aligned" ? Transitions::Aligned : Transitions::NearestExit);
   };
   info.load = [](ByteReader& in, const MapInfo& map, const Params& params) {
     const VoxelDagConfig config = voxelDagConfig(findScheme("cpvs-fast"), map, params);
