@@ -3,18 +3,25 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <CLI/CLI.hpp>
 #include <glm/gtc/constants.hpp>
 
 #include "harness/cell.h"
 #include "harness/progress.h"
 #include "harness/record.h"
+#include "schemes/interface/lightspace.h"
+#include "schemes/interface/serial.h"
 #include "schemes/interface/splitmix.h"
 
 namespace fs = std::filesystem;
@@ -462,6 +469,199 @@ uint64_t evaluateShadows(const ViewSurface& view, std::span<const ShadowedLight>
     lookups += done;
   });
   return lookups;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+template <class F>
+double medianMilliseconds(uint32_t repeats, F&& f) {
+  std::vector<double> ms;
+  for (uint32_t r = 0; r < std::max(repeats, 1u); ++r) {
+    const auto start = Clock::now();
+    f();
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  }
+  return distributionOf(ms).median;
+}
+
+struct CommandOptions {
+  ManyLightsConfig config;
+  std::string mode = "closed", resolution = "8K", out = "results/many-lights";
+  bool noView = false;
+  uint32_t viewWidth = 1920, viewHeight = 1080, tilePixels = 8, frames = 1, repeats = 3, bins = 12;
+  int filter = 9;
+};
+
+// The view evaluation of Kämpe §5.3 for each frame of the orbit, beside the paper's 3.2 ms.
+Table evaluateViews(const Scene& litScene, const std::vector<nlohmann::json>& records,
+                    const CommandOptions& o, const fs::path& out) {
+  Table table{fmt::format("Many lights: shadows of all lights in a {}×{} view, {}×{} PCF",
+                          o.viewWidth, o.viewHeight, o.filter, o.filter),
+              fmt::format("milliseconds, medians of {} runs; tiles of {}×{} pixels; lights per "
+                          "tile over tiles with samples; lookups only where the light reaches",
+                          o.repeats, o.tilePixels, o.tilePixels),
+              {"frame", "lights per tile", "lights per pixel", "lookups", "light lists 1 thread",
+               fmt::format("light lists {} threads", tbb::this_task_arena::max_concurrency()),
+               "shadows 1 thread",
+               fmt::format("shadows {} threads", tbb::this_task_arena::max_concurrency())},
+              {},
+              "view"};
+  uint64_t needed = 0;
+  for (const nlohmann::json& r : records) needed += r["size_bytes"]["total"].get<uint64_t>();
+  if (const uint64_t available = availableMemoryBytes(); available && needed > available)
+    throw std::runtime_error(fmt::format(
+        "the {} structures need {:.2f} GiB but only {:.2f} GiB is available; use --no-view",
+        records.size(), needed / double(1ull << 30), available / double(1ull << 30)));
+
+  std::vector<std::unique_ptr<Decoder>> decoders;
+  std::vector<ShadowedLight> lights;
+  for (uint32_t i = 0; i < records.size(); ++i) {
+    decoders.push_back(loadStructure(lightStructurePath(out, litScene, o.config, i), nullptr));
+    lights.emplace_back(sceneLight(litScene, i), *decoders.back(), o.config.resolution);
+  }
+  // Primary rays need any light's view of the scene; the map itself is never traced.
+  const DepthSource camera(litScene, lights.front().light, DepthMode::Open, kMinResolution,
+                           DepthMethod::RayCast);
+
+  for (uint32_t frame = 0; frame < o.frames; ++frame) {
+    const ViewSurface view =
+        captureView(litScene, camera, o.viewWidth, o.viewHeight, frame, o.frames);
+    TileLightLists lists;
+    const double listsSingle = medianMilliseconds(
+        o.repeats, [&] { lists = buildLightLists(view, lights, o.tilePixels, o.filter, false); });
+    const double listsAll = medianMilliseconds(
+        o.repeats, [&] { lists = buildLightLists(view, lights, o.tilePixels, o.filter, true); });
+    std::vector<float> visibility;
+    uint64_t lookups = 0;
+    const double shadowsSingle = medianMilliseconds(o.repeats, [&] {
+      lookups = evaluateShadows(view, lights, lists, o.filter, false, visibility);
+    });
+    const double shadowsAll = medianMilliseconds(o.repeats, [&] {
+      lookups = evaluateShadows(view, lights, lists, o.filter, true, visibility);
+    });
+
+    uint64_t listed = 0, tilesWithSamples = 0, covered = 0;
+    for (const auto& list : lists.lights) listed += list.size();
+    for (size_t t = 0; t < lists.lights.size(); ++t) {
+      bool any = false;
+      forCoveredPixels(view, lists, t, [&](size_t) { any = true, ++covered; });
+      tilesWithSamples += any;
+    }
+    table.rows.push_back({fmt::format("{}/{}", frame + 1, o.frames),
+                          number(double(listed) / double(std::max<uint64_t>(tilesWithSamples, 1))),
+                          number(double(lookups) / double(std::max<uint64_t>(covered, 1))),
+                          fmt::format("{}", lookups), number(listsSingle), number(listsAll),
+                          number(shadowsSingle), number(shadowsAll)});
+    fmt::print("view {}/{}: {} lookups, shadows {} ms (1 thread), {} ms (all threads)\n", frame + 1,
+               o.frames, lookups, number(shadowsSingle), number(shadowsAll));
+  }
+  // Kämpe Fig. 1 and §5.3: 1920×1080, 165 lights, 9×9 PCF, one CUDA thread per pixel.
+  table.rows.push_back(
+      {"Kämpe 2015 (paper, GTX Titan)", "–", "–", "–", "–", "–", "–", "3.2 (GPU)"});
+  return table;
+}
+
+void runManyLights(CommandOptions o) {
+  if (!validFilterSize(o.filter))
+    throw std::invalid_argument(fmt::format("filter size {} must be odd and in [1, 17]", o.filter));
+  o.config.mode = depthModeFromString(o.mode);
+  o.config.resolution = parseResolution(o.resolution);
+  o.config.saveStructures = !o.noView;
+  const fs::path out = o.out;
+  const Scene litScene = withSpotLights(openScene(o.config.sceneSpec), o.config.placement);
+  const SchemeInfo& scheme = findScheme(o.config.scheme);
+  fmt::print("many lights: {} spot lights over {} ({} triangles), {} {} {}³ → {}\n",
+             litScene.lights.size(), litScene.name, litScene.triangleCount(), scheme.name, o.mode,
+             resolutionLabel(o.config.resolution), out.string());
+
+  const auto records = buildManyLights(
+      litScene, o.config, out, [&](uint32_t index, const nlohmann::json& r, bool built) {
+        std::string checked;
+        if (r.contains("verification"))
+          checked = fmt::format(", verified {} queries, {} mismatches",
+                                r["verification"]["queries"].get<uint64_t>(),
+                                r["verification"]["mismatches"].get<uint64_t>());
+        fmt::print("light {:>3}/{}: {} MiB, build {} ms (depth {} ms){}{}\n", index + 1,
+                   litScene.lights.size(),
+                   number(r["size_bytes"]["total"].get<double>() / (1 << 20)),
+                   number(r["time_s"]["total"].get<double>() * 1e3),
+                   number(r["time_s"]["depth"].get<double>() * 1e3), checked,
+                   built ? "" : " (from an earlier run)");
+      });
+
+  const BuildSummary summary = summariseBuilds(records, o.bins);
+  writeFileAtomically(out / "lights.csv", toCsv(summary.perLight));
+  writeFileAtomically(out / "histogram.csv", toCsv(summary.histograms));
+  std::string markdown = fmt::format(
+      "# Many local lights (Kämpe 2015 §4, §5.3)\n\n"
+      "{} spot lights over `{}` ({} triangles, hash {}): seed {}, fov {}–{}°, tilt ≤ {}°, "
+      "logarithmic depth (eq. 1). Scheme `{}`, {} mode, {}² ({}). Machine: {}.\n\n",
+      litScene.lights.size(), o.config.sceneSpec, litScene.triangleCount(), litScene.hash(),
+      o.config.placement.seed, o.config.placement.minFovDegrees, o.config.placement.maxFovDegrees,
+      o.config.placement.maxTiltDegrees, scheme.name, o.mode, resolutionLabel(o.config.resolution),
+      scheme.kind == SchemeKind::Voxel ? "voxel scheme, Rz = R" : "depth scheme",
+      machineInfo()["cpu"].get<std::string>());
+  markdown += toMarkdown({summary.distribution});
+  markdown +=
+      fmt::format("Histograms (lights per bin):\n\n```text\n{}```\n\n", summary.histogramText);
+  if (!o.noView) {
+    const Table view = evaluateViews(litScene, records, o, out);
+    writeFileAtomically(out / "view.csv", toCsv(view));
+    markdown += toMarkdown({view});
+  }
+  writeFileAtomically(out / "summary.md", markdown);
+  fmt::print("\n{}wrote {}\n", markdown, (out / "summary.md").string());
+
+  size_t mismatched = 0;
+  for (const nlohmann::json& r : records)
+    mismatched += r.contains("verification") && r["verification"]["mismatches"].get<uint64_t>();
+  if (mismatched)
+    throw std::runtime_error(
+        fmt::format("{} of {} lights have mismatches", mismatched, records.size()));
+}
+
+}  // namespace
+
+void addManyLightsCommand(CLI::App& app) {
+  auto o = std::make_shared<CommandOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "many-lights",
+      "Kämpe 2015 §5.3: build one structure per spot light, summarise sizes and build times, "
+      "evaluate all lights for a view");
+  sub->add_option("--scene,-s", o->config.sceneSpec, "generator, scene .json or model file")
+      ->capture_default_str();
+  sub->add_option("--lights", o->config.placement.count, "number of spot lights")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--seed", o->config.placement.seed, "seed of the light placement")
+      ->capture_default_str();
+  sub->add_option("--scheme", o->config.scheme, "scheme name (see 'shadowbench schemes')")
+      ->capture_default_str();
+  sub->add_option("--mode,-m", o->mode, "dual depth mode: open, closed or static")
+      ->capture_default_str();
+  sub->add_option("--resolution,-r", o->resolution, "texels per side of each light")
+      ->capture_default_str();
+  sub->add_option("--tile", o->config.tileSize,
+                  "tile size streamed to the encoder (default min(R, 512))");
+  sub->add_option("--out", o->out, "folder for records, structures and summary.md (resumes)")
+      ->capture_default_str();
+  sub->add_flag("--verify", o->config.verify, "check each structure against the reference");
+  sub->add_option("--sampled-queries", o->config.sampledQueries, "queries checked per light")
+      ->capture_default_str();
+  sub->add_flag("--no-view", o->noView, "skip the view evaluation (and keep no structure files)");
+  const std::tuple<const char*, uint32_t*, const char*> counts[] = {
+      {"--view-width", &o->viewWidth, "view width in pixels"},
+      {"--view-height", &o->viewHeight, "view height in pixels"},
+      {"--tile-pixels", &o->tilePixels, "screen tile side in pixels"},
+      {"--frames", &o->frames, "views along the camera orbit"},
+      {"--repeats", &o->repeats, "timed runs per measurement (median)"},
+      {"--bins", &o->bins, "histogram bins"}};
+  for (const auto& [name, value, help] : counts)
+    sub->add_option(name, *value, help)->capture_default_str()->check(CLI::PositiveNumber);
+  sub->add_option("--filter,-k", o->filter, "PCF filter size k (odd, ≤ 17)")->capture_default_str();
+  sub->callback([o] { runManyLights(*o); });
 }
 
 }  // namespace sb

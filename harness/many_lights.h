@@ -21,6 +21,10 @@
 #include "scenes/scene.h"
 #include "schemes/interface/scheme.h"
 
+namespace CLI {
+class App;
+}
+
 namespace sb {
 
 // Where the spot lights go. Positions follow a seeded R2 low-discrepancy sequence over the
@@ -138,5 +142,9 @@ TileLightLists allLightsEverywhere(const ViewSurface& view, size_t lightCount, u
 uint64_t evaluateShadows(const ViewSurface& view, std::span<const ShadowedLight> lights,
                          const TileLightLists& lists, int k, bool parallel,
                          std::vector<float>& visibility);
+
+// `shadowbench many-lights`: places the lights, builds them, summarises (Kämpe Fig. 3) and
+// evaluates a view, writing everything under --out.
+void addManyLightsCommand(CLI::App& app);
 
 }  // namespace sb
