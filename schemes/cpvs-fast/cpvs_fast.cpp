@@ -3,6 +3,7 @@
 // it is built (§3.2: in Z-order, reusing the node of the volume in front instead of creating an
 // identical one) and how undefined space is resolved (§3.4: per 8×8 block visibility masks).
 #include <algorithm>
+#include <bit>
 #include <optional>
 
 #include <fmt/format.h>
@@ -19,17 +20,30 @@ inline constexpr uint32_t kNever = ~0u;
 // Kämpe §3.4: the visibility masks of one 8×8 block, each with the slice where it starts and
 // holding until the next one starts; bit dx + 8·dy set = lit.
 struct VisibilityMasks {
-  std::vector<uint32_t> starts;
-  std::vector<uint64_t> lit;
+  const uint32_t* starts;
+  const uint64_t* lit;
+  size_t count;
 
   size_t at(uint32_t slice) const {
-    return size_t(std::upper_bound(starts.begin(), starts.end(), slice) - starts.begin()) - 1;
+    return size_t(std::upper_bound(starts, starts + count, slice) - starts) - 1;
   }
   // The first slice after `slice` where the mask changes: a shadow-casting surface.
   uint32_t nextTransition(uint32_t slice) const {
     const size_t next = at(slice) + 1;
-    return next < starts.size() ? starts[next] : kNever;
+    return next < count ? starts[next] : kNever;
   }
+};
+
+// The masks of every block of a tile, block after block.
+struct TileMasks {
+  std::vector<uint32_t> starts;
+  std::vector<uint64_t> lit;
+  std::vector<uint32_t> first{0};  // block b's masks are [first[b], first[b + 1])
+
+  VisibilityMasks block(size_t b) const {
+    return {starts.data() + first[b], lit.data() + first[b], size_t(first[b + 1] - first[b])};
+  }
+  void clear() { starts.clear(), lit.clear(), first.assign(1, 0); }
 };
 
 // Where a block's mask may change: exactly at the nearest exit depth of the cells still lit (as
@@ -38,13 +52,11 @@ struct VisibilityMasks {
 // the same slices and large volumes stay homogeneous.
 enum class Transitions { NearestExit, Aligned };
 
-// The slice in [earliest, latest] with the most trailing zero bits.
+// The slice in [earliest, latest] with the most trailing zero bits: latest with every bit below
+// the highest one where it differs from earliest − 1 cleared.
 uint32_t mostAlignedSlice(uint32_t earliest, uint32_t latest) {
-  for (uint32_t bit = 31; bit > 0; --bit) {
-    const uint32_t aligned = latest & ~((1u << bit) - 1);
-    if (aligned >= earliest) return aligned;
-  }
-  return latest;
+  if (earliest == 0) return 0;
+  return latest & ~((uint32_t(std::bit_floor((earliest - 1) ^ latest))) - 1);
 }
 
 // Kämpe §3.4: lit until the nearest exit depth; there a mask shadows every cell already past its
@@ -52,23 +64,35 @@ uint32_t mostAlignedSlice(uint32_t earliest, uint32_t latest) {
 // mask begins, until every cell is shadowed. Each mask shadows at least one more cell. Where the
 // farthest enter depth comes before the nearest exit depth the paper's lit and shadowed regions
 // overlap; the lit region wins, as Sintorn's min-max rule keeps lit everything above the exit.
-VisibilityMasks visibilityMasks(const SliceInterval (&cells)[64], uint32_t depthResolution,
-                                Transitions transitions) {
-  VisibilityMasks masks{{0}, {~uint64_t(0)}};
+void appendVisibilityMasks(const SliceInterval (&cells)[64], uint32_t depthResolution,
+                           Transitions transitions, TileMasks& masks) {
+  // The cells in order of enter depth: the shadowed ones are always a prefix of this order, and
+  // the nearest exit depth of the others is a suffix minimum. Blocks of one enter depth (flat
+  // ground, roofs, empty sky) are common and already in order.
+  uint64_t byEnter[64];
+  bool oneEnter = true;
+  for (uint32_t c = 0; c < 64; ++c) {
+    byEnter[c] = uint64_t(cells[c].litEnd) << 6 | c;
+    oneEnter &= cells[c].litEnd == cells[0].litEnd;
+  }
+  if (!oneEnter) std::sort(byEnter, byEnter + 64);
+  uint32_t nearestExit[65];
+  nearestExit[64] = depthResolution;
+  for (uint32_t i = 64; i-- > 0;)
+    nearestExit[i] = std::min(nearestExit[i + 1], cells[byEnter[i] & 63].shadowBegin);
+
+  masks.starts.push_back(0);
+  masks.lit.push_back(~uint64_t(0));
   uint64_t shadowed = 0;
-  while (shadowed != ~uint64_t(0)) {
-    uint32_t latest = depthResolution, earliest = depthResolution;
-    for (uint32_t c = 0; c < 64; ++c)
-      if (!(shadowed >> c & 1)) {
-        latest = std::min(latest, cells[c].shadowBegin);
-        earliest = std::min(earliest, cells[c].litEnd);
-      }
-    if (latest >= depthResolution) break;
+  for (uint32_t lit = 0; lit < 64 && nearestExit[lit] < depthResolution;) {
     // A mask changes only where it shadows one more cell, and after the previous change.
-    earliest = std::max(earliest, masks.starts.back() + (masks.lit.back() != ~uint64_t(0)));
-    const uint32_t next =
-        transitions == Transitions::Aligned ? mostAlignedSlice(earliest, latest) : latest;
-    for (uint32_t c = 0; c < 64; ++c) shadowed |= uint64_t(cells[c].litEnd <= next) << c;
+    const uint32_t earliest = std::max(uint32_t(byEnter[lit] >> 6),
+                                       masks.starts.back() + (masks.lit.back() != ~uint64_t(0)));
+    const uint32_t next = transitions == Transitions::Aligned
+                              ? mostAlignedSlice(earliest, nearestExit[lit])
+                              : nearestExit[lit];
+    for (; lit < 64 && (byEnter[lit] >> 6) <= next; ++lit)
+      shadowed |= uint64_t(1) << (byEnter[lit] & 63);
     if (masks.starts.back() == next) {
       masks.lit.back() = ~shadowed;
     } else {
@@ -76,7 +100,7 @@ VisibilityMasks visibilityMasks(const SliceInterval (&cells)[64], uint32_t depth
       masks.lit.push_back(~shadowed);
     }
   }
-  return masks;
+  masks.first.push_back(uint32_t(masks.starts.size()));
 }
 
 class CpvsFastEncoder final : public Encoder {
@@ -96,25 +120,26 @@ class CpvsFastEncoder final : public Encoder {
     blocksPerSide_ = tileSize / 8;
 
     context.phase("visibility masks");
-    const std::vector<SliceInterval> intervals = sliceIntervals(tile, resolution);
-    masks_.resize(size_t(blocksPerSide_) * blocksPerSide_);
+    sliceIntervals(tile, resolution, intervals_);
+    masks_.clear();
     for (uint32_t by = 0; by < blocksPerSide_; ++by)
       for (uint32_t bx = 0; bx < blocksPerSide_; ++bx) {
         SliceInterval cells[64];
         for (uint32_t c = 0; c < 64; ++c)
-          cells[c] = intervals[size_t(by * 8 + c / 8) * tileSize + bx * 8 + c % 8];
-        masks_[size_t(by) * blocksPerSide_ + bx] = visibilityMasks(cells, resolution, transitions_);
+          cells[c] = intervals_[size_t(by * 8 + c / 8) * tileSize + bx * 8 + c % 8];
+        appendVisibilityMasks(cells, resolution, transitions_, masks_);
       }
 
     // The pyramid over the masks themselves, so that a volume is homogeneous exactly when its
     // resolved voxels are.
     context.phase("min-max");
     pyramid_.emplace(tileSize, [&](uint32_t bx, uint32_t by) {
-      const VisibilityMasks& block = masks_[size_t(by) * blocksPerSide_ + bx];
+      const VisibilityMasks block = masks_.block(size_t(by) * blocksPerSide_ + bx);
+      const size_t last = block.count - 1;
       return BlockPyramid::Bounds{block.lit[0] != ~uint64_t(0) ? 0
-                                  : block.starts.size() > 1    ? block.starts[1]
+                                  : block.count > 1            ? block.starts[1]
                                                                : kNever,
-                                  block.lit.back() == 0 ? block.starts.back() : kNever};
+                                  block.lit[last] == 0 ? block.starts[last] : kNever};
     });
 
     const uint32_t cubeDepth = shape_.levels - uint32_t(std::countr_zero(tileSize));
@@ -171,8 +196,8 @@ class CpvsFastEncoder final : public Encoder {
     const uint32_t side = footprint(depth), perSide = tileSize_ / side;
     return reuse_[depth][size_t(y / side) * perSide + x / side];
   }
-  const VisibilityMasks& block(uint32_t x, uint32_t y) const {
-    return masks_[size_t(y / 8) * blocksPerSide_ + x / 8];
+  VisibilityMasks block(uint32_t x, uint32_t y) const {
+    return masks_.block(size_t(y / 8) * blocksPerSide_ + x / 8);
   }
 
   // The volume at `depth` whose tile-local corner is (x, y, z), in Z-order; sets `nextSurface`
@@ -209,7 +234,7 @@ class CpvsFastEncoder final : public Encoder {
   // The leafmask with corner (x, y, z), read from the block's visibility masks.
   SvoChild leafmask(uint32_t x, uint32_t y, uint32_t z, uint32_t& nextSurface) {
     const uint32_t depth = shape_.leafParentDepth() + 1;
-    const VisibilityMasks& masks = block(x, y);
+    const VisibilityMasks masks = block(x, y);
     if (SvoChild reused; reuse(x, y, z, depth, reused, nextSurface)) return reused;
     nextSurface = masks.nextTransition(z);
     uint64_t lit = 0;
@@ -254,7 +279,8 @@ class CpvsFastEncoder final : public Encoder {
   LocalSvo svo_;
   TileColumns columns_;
   uint32_t tileSize_ = 0, blocksPerSide_ = 0;
-  std::vector<VisibilityMasks> masks_;
+  std::vector<SliceInterval> intervals_;
+  TileMasks masks_;
   std::optional<BlockPyramid> pyramid_;
   std::vector<std::vector<ReuseEntry>> reuse_;
   uint64_t culled_ = 0;

@@ -25,7 +25,7 @@ class CpvsEncoder final : public Encoder {
     const uint32_t tileSize = cubeTileSize(tile), resolution = 1u << shape_.levels;
     context.phase("min-max");
     tileSize_ = tileSize;
-    intervals_ = sliceIntervals(tile, resolution);
+    sliceIntervals(tile, resolution, intervals_);
     pyramid_.emplace(tileSize, [&](uint32_t bx, uint32_t by) {
       BlockPyramid::Bounds bounds{~0u, 0};
       for (uint32_t y = by * 8; y < by * 8 + 8; ++y)

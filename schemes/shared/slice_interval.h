@@ -29,14 +29,14 @@ inline uint32_t firstSliceBeyond(float depth, uint32_t depthResolution) {
   return uint32_t(std::min<double>(depthResolution, std::floor(scaled - 0.5) + 1.0));
 }
 
-// The tile's slice intervals, row-major like the tile.
-inline std::vector<SliceInterval> sliceIntervals(const DualDepthTile& tile,
-                                                 uint32_t depthResolution) {
-  std::vector<SliceInterval> intervals(tile.lo.size());
+// The tile's slice intervals, row-major like the tile, into `intervals` (reused from tile to
+// tile, so that no tile pays for fresh pages).
+inline void sliceIntervals(const DualDepthTile& tile, uint32_t depthResolution,
+                           std::vector<SliceInterval>& intervals) {
+  intervals.resize(tile.lo.size());
   for (size_t t = 0; t < intervals.size(); ++t)
     intervals[t] = {firstSliceBeyond(tile.lo[t], depthResolution),
                     firstSliceBeyond(tile.hi[t], depthResolution)};
-  return intervals;
 }
 
 // A pyramid over the 8×8 texel blocks of a square tile holding, per footprint, the smallest
