@@ -328,6 +328,7 @@ ShadowedLight::ShadowedLight(Light l, const Decoder& d, uint32_t r)
     : light(std::move(l)), decoder(&d), resolution(r) {
   if (light.kind() != LightKind::Spot)
     throw std::invalid_argument("many lights: only spot lights are evaluated");
+  // The fitted near and far planes are the Light's own; describe() is where it reports them.
   const nlohmann::json frustum = light.describe();
   tanHalfFov = std::tan(glm::radians(double(light.spec().fovDegrees)) / 2);
   near = frustum["near"].get<double>();
