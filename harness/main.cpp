@@ -12,6 +12,7 @@
 
 #include "harness/cell.h"
 #include "harness/lookup_timing.h"
+#include "harness/many_lights.h"
 #include "harness/progress.h"
 #include "harness/record.h"
 #include "harness/scene_export.h"
@@ -424,6 +425,8 @@ int main(int argc, char** argv) {
   tableCmd->add_option("records", o.records, "records folder")->capture_default_str();
   tableCmd->add_option("--out", o.tableOut,
                        "folder for tables.md and CSVs (default RECORDS/tables)");
+
+  addManyLightsCommand(app);
 
   try {
     app.parse(argc, argv);
