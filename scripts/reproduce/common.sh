@@ -1,0 +1,89 @@
+# shellcheck shell=bash
+# Sourced by the scripts of scripts/reproduce/ (not run): reads --max-resolution (every other
+# argument goes to each sweep), builds shadowbench (Release, in build/ or $SHADOWBENCH_BUILD),
+# and gives each script `resolutions`, `sweep` and `tabulate`. Records go to
+# results/reproduce/<table>/records, the sweeps' output to results/reproduce/<table>/sweep.log
+# and the table to results/reproduce/<table>.md.
+set -euo pipefail
+table=$(basename "$0" .sh)
+command_line="scripts/reproduce/$table.sh${*:+ $*}"
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+
+usage() {
+  sed -n '2,/^#   scripts/s/^# \{0,1\}//p' "$0"
+  echo "Options: --max-resolution R (default 64K, e.g. 4K for a quick run); any other argument"
+  echo "goes to every 'shadowbench sweep' (e.g. --no-bench, --sampled-queries 1000000)."
+}
+
+# "4K" → 4096; fails on anything but digits with an optional K.
+texels() {
+  local digits=${1%[kK]}
+  [[ $digits =~ ^[0-9]{1,7}$ ]] || return 1
+  if [ "$digits" != "$1" ]; then echo $((10#$digits * 1024)); else echo $((10#$digits)); fi
+}
+label() { if (($1 >= 1024)); then echo "$(($1 / 1024))K"; else echo "$1"; fi; }
+
+max_resolution=64K
+sweep_args=()
+while [ $# -gt 0 ]; do
+  case $1 in
+    --max-resolution)
+      [ $# -ge 2 ] || { echo "$table: --max-resolution needs a value" >&2; exit 2; }
+      max_resolution=$2
+      shift 2 ;;
+    --max-resolution=*) max_resolution=${1#*=}; shift ;;
+    -h | --help) usage; exit 0 ;;
+    *) sweep_args+=("$1"); shift ;;
+  esac
+done
+if ! max_texels=$(texels "$max_resolution") || ((max_texels < 8 || (max_texels & (max_texels - 1)) != 0)); then
+  echo "$table: --max-resolution '$max_resolution' must be a power of two such as 4K or 64K" >&2
+  exit 2
+fi
+
+# The comma-separated resolutions FIRST, FIRST·STEP, … up to --max-resolution (STEP 2 unless
+# given); the maximum alone when FIRST is above it, so that a quick run still builds each cell.
+resolutions() {
+  local r step=${2:-2} list=()
+  r=$(texels "$1")
+  while ((r <= max_texels)); do
+    list+=("$(label "$r")")
+    r=$((r * step))
+  done
+  [ ${#list[@]} -gt 0 ] || list=("$(label "$max_texels")")
+  (IFS=,; echo "${list[*]}")
+}
+
+out=results/reproduce
+records=$out/$table/records
+log=$out/$table/sweep.log
+mkdir -p "$out/$table"
+build_dir=${SHADOWBENCH_BUILD:-build}
+scripts/install-deps.sh
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build_dir" -j "$(nproc)" --target shadowbench
+sb=$build_dir/harness/shadowbench
+
+# One `shadowbench sweep` into this table's records: finished cells are skipped, so a stopped
+# script resumes. A failed or mismatched cell does not stop the script; it sets its exit status.
+status=0
+sweep() {
+  echo "shadowbench sweep $*${sweep_args[*]:+ ${sweep_args[*]}}" | tee -a "$log"
+  local rc=0
+  "$sb" sweep --out "$records" "$@" "${sweep_args[@]}" >>"$log" || rc=$?
+  [ $rc -ne 2 ] || exit 2 # refused its arguments (shadowbench said why); nothing was built
+  [ $rc -eq 0 ] || status=1
+  grep '^sweep:' "$log" | tail -n 1
+}
+
+# Writes results/reproduce/<table>.md from the records, prints it, and exits with the sweeps'
+# status.
+tabulate() {
+  /usr/bin/python3 scripts/reproduce/paper_tables.py "$table" "$records" \
+    --max-resolution "$max_resolution" --command "$command_line" >"$out/$table.md.tmp"
+  mv "$out/$table.md.tmp" "$out/$table.md"
+  cat "$out/$table.md"
+  echo "wrote $out/$table.md"
+  [ $status -eq 0 ] || echo "$table: some cells failed or did not verify; see $log" >&2
+  exit $status
+}
