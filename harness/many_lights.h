@@ -17,6 +17,7 @@
 
 #include "harness/depth_source.h"
 #include "harness/light.h"
+#include "harness/query_sets.h"
 #include "harness/table.h"
 #include "scenes/scene.h"
 #include "schemes/interface/scheme.h"
@@ -94,20 +95,6 @@ struct BuildSummary {
   std::string histogramText;
 };
 BuildSummary summariseBuilds(const std::vector<nlohmann::json>& records, uint32_t bins = 12);
-
-// The visible surface of one camera view (a G-buffer): per pixel the world-space position and
-// the normal facing the camera, where a primary ray hit.
-struct ViewSurface {
-  uint32_t width = 0, height = 0;
-  std::vector<glm::vec3> position, normal;
-  std::vector<uint8_t> covered;
-  size_t pixel(uint32_t x, uint32_t y) const { return size_t(y) * width + x; }
-};
-
-// Frame `frame` of `frames` of the camera orbit of viewSamples (query_sets.h), ray cast through
-// `source` (any light's depth source over the scene).
-ViewSurface captureView(const Scene& scene, const DepthSource& source, uint32_t width,
-                        uint32_t height, uint32_t frame, uint32_t frames);
 
 // A spot light with its structure, as the shadow evaluation sees it.
 struct ShadowedLight {

@@ -9,11 +9,14 @@
 #include "harness/build.h"
 #include "harness/cell.h"
 #include "harness/many_lights.h"
+#include "tests/support/scratch_dir.h"
 
 using namespace sb;
 namespace fs = std::filesystem;
 
 namespace {
+
+using sb::testing::ScratchDir;
 
 constexpr const char* kScene = "city:size=2";
 
@@ -21,24 +24,6 @@ bool sameSpec(const LightSpec& a, const LightSpec& b) {
   return a.kind == b.kind && a.position == b.position && a.direction == b.direction &&
          a.fovDegrees == b.fovDegrees && a.depth == b.depth;
 }
-
-// A fresh folder under the system temporary folder, removed with everything in it.
-class ScratchDir {
- public:
-  ScratchDir() {
-    std::string pattern = (fs::temp_directory_path() / "sb-many-lights-test-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~ScratchDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 // Lights of `scene` with sm32 structures at `resolution`, built in closed mode.
 struct BuiltLights {
@@ -157,7 +142,7 @@ TEST_CASE("tiled shadows equal a brute-force loop over every light", "[lights]")
 }
 
 TEST_CASE("builds write one record per light and resume from them", "[lights]") {
-  const ScratchDir out;
+  const ScratchDir out("sb-many-lights-test");
   ManyLightsConfig config;
   config.sceneSpec = kScene;
   config.placement.count = 3;

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "harness/depth_source.h"
 #include "scenes/scene.h"
 #include "schemes/interface/scheme.h"
@@ -19,9 +21,23 @@ struct QuerySet {
 
 QuerySet uniformQueries(uint64_t count, uint64_t seed);
 
-// Primary rays of a width × height camera at `frames` positions orbiting the scene, cast with
-// Embree; each hit is moved a little along its normal (towards the camera side) and turned
-// into a light-space query. Misses and points outside the light's map are dropped.
+// The visible surface of one camera view (a G-buffer): per pixel the world-space position and
+// the normal facing the camera, where a primary ray hit.
+struct ViewSurface {
+  uint32_t width = 0, height = 0;
+  std::vector<glm::vec3> position, normal;
+  std::vector<uint8_t> covered;
+  size_t pixel(uint32_t x, uint32_t y) const { return size_t(y) * width + x; }
+};
+
+// Frame `frame` of `frames` of a camera circling the scene at 60% of its radius above the
+// centre, looking at it, ray cast with Embree through `source` (any light's depth source).
+ViewSurface captureView(const Scene& scene, const DepthSource& source, uint32_t width,
+                        uint32_t height, uint32_t frame, uint32_t frames);
+
+// The covered pixels of captureView's `frames` frames; each hit is moved a little along its normal
+// (towards the camera side) and turned into a light-space query. Misses and points outside the
+// light's map are dropped.
 QuerySet viewSamples(const Scene& scene, const DepthSource& source, uint32_t width, uint32_t height,
                      uint32_t frames);
 

@@ -16,29 +16,14 @@
 
 #include "harness/progress.h"
 #include "harness/record.h"
+#include "tests/support/scratch_dir.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
 
-// A fresh folder under the system temporary folder, removed with everything in it.
-class ScratchDir {
- public:
-  ScratchDir() {
-    std::string pattern = (fs::temp_directory_path() / "sb-record-test-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~ScratchDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using sb::testing::ScratchDir;
 
 json sampleRecord() {
   return json::parse(R"({
@@ -89,7 +74,7 @@ bool isFileNameSafe(const std::string& name) {
 
 TEST_CASE("writeJsonAtomically creates folders, leaves only the record, and replaces it whole",
           "[record]") {
-  ScratchDir dir;
+  ScratchDir dir("sb-record-test");
   const fs::path path = dir.path() / "a" / "b" / "cell.json";
   const json first = sampleRecord();
   sb::writeJsonAtomically(path, first);
@@ -106,7 +91,7 @@ TEST_CASE("writeJsonAtomically creates folders, leaves only the record, and repl
 
 TEST_CASE("a failed atomic write throws and leaves neither a partial file nor a temporary",
           "[record]") {
-  ScratchDir dir;
+  ScratchDir dir("sb-record-test");
   writeText(dir.path() / "blocker", "not a folder");
   CHECK_THROWS_AS(sb::writeJsonAtomically(dir.path() / "blocker" / "cell.json", sampleRecord()),
                   std::runtime_error);
@@ -118,7 +103,7 @@ TEST_CASE("a failed atomic write throws and leaves neither a partial file nor a 
 }
 
 TEST_CASE("concurrent atomic writes of one record leave one whole record", "[record]") {
-  ScratchDir dir;
+  ScratchDir dir("sb-record-test");
   const fs::path path = dir.path() / "cell.json";
   std::vector<std::thread> writers;
   for (int t = 0; t < 4; ++t)
@@ -133,7 +118,7 @@ TEST_CASE("concurrent atomic writes of one record leave one whole record", "[rec
 }
 
 TEST_CASE("readRecord accepts only the whole text of a complete record", "[record]") {
-  ScratchDir dir;
+  ScratchDir dir("sb-record-test");
   const fs::path path = dir.path() / "cell.json";
   sb::writeJsonAtomically(path, sampleRecord());
   const std::string text = readText(path);
@@ -147,7 +132,7 @@ TEST_CASE("readRecord accepts only the whole text of a complete record", "[recor
 }
 
 TEST_CASE("readRecord rejects garbage, incomplete and foreign records", "[record]") {
-  ScratchDir dir;
+  ScratchDir dir("sb-record-test");
   const fs::path path = dir.path() / "cell.json";
   CHECK_FALSE(sb::readRecord(dir.path() / "missing.json"));
   CHECK_FALSE(sb::readRecord(dir.path()));  // a folder
@@ -187,7 +172,7 @@ TEST_CASE("readRecord rejects garbage, incomplete and foreign records", "[record
 
 TEST_CASE("readRecords finds complete records recursively, sorted, and counts the rest",
           "[record]") {
-  ScratchDir dir;
+  ScratchDir dir("sb-record-test");
   const fs::path root = dir.path() / "results";
   json a = sampleRecord(), b = sampleRecord(), c = sampleRecord();
   a["resolution"] = 1024, b["resolution"] = 2048, c["resolution"] = 512;
@@ -247,7 +232,7 @@ TEST_CASE("cellKey names the cell from its identity, stably", "[record]") {
 }
 
 TEST_CASE("cellKey is filesystem-safe and distinct for odd scene names", "[record]") {
-  ScratchDir dir;
+  ScratchDir dir("sb-record-test");
   const std::vector<std::string> names = {"../../etc/passwd",
                                           "a/b",
                                           "a\\b",
@@ -317,7 +302,7 @@ TEST_CASE("machine facts and memory figures come from this machine", "[record]")
 }
 
 TEST_CASE("sourceCommit names the commit, marks a dirty tree, and never throws", "[record]") {
-  ScratchDir dir;
+  ScratchDir dir("sb-record-test");
   CHECK(sb::sourceCommit(dir.path() / "missing") == "unknown");
   CHECK(sb::sourceCommit(dir.path()) == "unknown");  // not a repository
   if (std::system("git --version >/dev/null 2>&1") != 0) return;

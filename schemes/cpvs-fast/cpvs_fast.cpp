@@ -103,21 +103,15 @@ void appendVisibilityMasks(const SliceInterval (&cells)[64], uint32_t depthResol
   masks.first.push_back(uint32_t(masks.starts.size()));
 }
 
-class CpvsFastEncoder final : public Encoder {
+class CpvsFastEncoder final : public CubeColumnEncoder {
  public:
   CpvsFastEncoder(const MapInfo& map, VoxelDagConfig config, bool culling, Transitions transitions)
-      : shape_(VoxelDagShape::of(map, config.layout)),
-        gridLevels_(config.gridLevels),
-        culling_(culling),
-        transitions_(transitions),
-        dag_(shape_),
-        svo_(shape_),
-        columns_(shape_) {}
+      : CubeColumnEncoder(map, config), culling_(culling), transitions_(transitions) {}
 
-  void consume(const DualDepthTile& tile, BuildContext& context) override {
-    const uint32_t tileSize = cubeTileSize(tile), resolution = 1u << shape_.levels;
-    tileSize_ = tileSize;
-    blocksPerSide_ = tileSize / 8;
+ private:
+  void prepareTile(const DualDepthTile& tile, BuildContext& context) override {
+    const uint32_t resolution = shape_.side(0);
+    blocksPerSide_ = tileSize() / 8;
 
     context.phase("visibility masks");
     sliceIntervals(tile, resolution, intervals_);
@@ -126,14 +120,14 @@ class CpvsFastEncoder final : public Encoder {
       for (uint32_t bx = 0; bx < blocksPerSide_; ++bx) {
         SliceInterval cells[64];
         for (uint32_t c = 0; c < 64; ++c)
-          cells[c] = intervals_[size_t(by * 8 + c / 8) * tileSize + bx * 8 + c % 8];
+          cells[c] = intervals_[size_t(by * 8 + c / 8) * tileSize() + bx * 8 + c % 8];
         appendVisibilityMasks(cells, resolution, transitions_, masks_);
       }
 
     // The pyramid over the masks themselves, so that a volume is homogeneous exactly when its
     // resolved voxels are.
     context.phase("min-max");
-    pyramid_.emplace(tileSize, [&](uint32_t bx, uint32_t by) {
+    pyramid_.emplace(tileSize(), [&](uint32_t bx, uint32_t by) {
       const VisibilityMasks block = masks_.block(size_t(by) * blocksPerSide_ + bx);
       const size_t last = block.count - 1;
       return BlockPyramid::Bounds{block.lit[0] != ~uint64_t(0) ? 0
@@ -142,38 +136,28 @@ class CpvsFastEncoder final : public Encoder {
                                   block.lit[last] == 0 ? block.starts[last] : kNever};
     });
 
-    const uint32_t cubeDepth = shape_.levels - uint32_t(std::countr_zero(tileSize));
     reuse_.assign(shape_.leafParentDepth() + 2, {});
-    for (uint32_t d = cubeDepth; d < reuse_.size(); ++d) {
-      const uint32_t perSide = tileSize / footprint(d);
+    for (uint32_t d = cubeDepth(); d < reuse_.size(); ++d) {
+      const uint32_t perSide = tileSize() / footprint(d);
       reuse_[d].assign(size_t(perSide) * perSide, ReuseEntry{});
     }
-    std::vector<SvoChild> cubes(resolution / tileSize);
-    for (uint32_t m = 0; m < cubes.size(); ++m) {
-      context.phase("insert");
-      uint32_t nextSurface = 0;
-      const SvoChild root = insert(0, 0, m * tileSize, cubeDepth, nextSurface);
-      context.phase("merge");
-      cubes[m] = svo_.merge(root, cubeDepth, dag_);
-      // Volumes of the next cube may reuse this cube's nodes, now in the DAG.
-      for (uint32_t d = cubeDepth; d < reuse_.size(); ++d)
-        for (ReuseEntry& entry : reuse_[d]) entry.ref = svo_.merged(entry.ref, d);
-      svo_.clear();
-    }
-    columns_.add(tile.x0, tile.y0, tileSize, std::move(cubes), dag_);
   }
 
-  std::unique_ptr<Decoder> finish(BuildContext& context) override {
-    context.phase("merge");
-    VoxelDag dag = dag_.finish(columns_.root(), gridLevels_);
-    context.count("svo nodes inserted", svo_.inserted());
+  SvoChild insertCube(uint32_t z0, uint32_t depth) override {
+    uint32_t nextSurface = 0;
+    return insert(0, 0, z0, depth, nextSurface);
+  }
+
+  // Volumes of the next cube may reuse this cube's nodes, now in the DAG.
+  void cubeMerged() override {
+    for (uint32_t d = cubeDepth(); d < reuse_.size(); ++d)
+      for (ReuseEntry& entry : reuse_[d]) entry.ref = svo_.merged(entry.ref, d);
+  }
+
+  void countConstruction(BuildContext& context) const override {
     context.count("nodes culled", culled_);
-    context.count("dag nodes", dag_.nodeCount());
-    context.count("dag leafmasks", dag_.leafmaskCount());
-    return makeVoxelDagDecoder(std::move(dag));
   }
 
- private:
   // Kämpe §3.2: per depth and footprint, the last volume completed there, the slice after it,
   // and the first shadow-casting surface after its start. The next volume behind it is the
   // same volume when no surface lies in either of them.
@@ -193,7 +177,7 @@ class CpvsFastEncoder final : public Encoder {
                                             : shape_.side(depth);
   }
   ReuseEntry& entry(uint32_t x, uint32_t y, uint32_t depth) {
-    const uint32_t side = footprint(depth), perSide = tileSize_ / side;
+    const uint32_t side = footprint(depth), perSide = tileSize() / side;
     return reuse_[depth][size_t(y / side) * perSide + x / side];
   }
   VisibilityMasks block(uint32_t x, uint32_t y) const {
@@ -271,14 +255,9 @@ class CpvsFastEncoder final : public Encoder {
     return volume;
   }
 
-  VoxelDagShape shape_;
-  uint32_t gridLevels_;
   bool culling_;
   Transitions transitions_;
-  VoxelDagBuilder dag_;
-  LocalSvo svo_;
-  TileColumns columns_;
-  uint32_t tileSize_ = 0, blocksPerSide_ = 0;
+  uint32_t blocksPerSide_ = 0;
   std::vector<SliceInterval> intervals_;
   TileMasks masks_;
   std::optional<BlockPyramid> pyramid_;
@@ -287,12 +266,9 @@ class CpvsFastEncoder final : public Encoder {
 };
 
 SchemeInfo cpvsFast() {
-  SchemeInfo info;
-  info.name = "cpvs-fast";
-  info.paper =
-      "Kämpe, Sintorn, Assarsson 2015, Fast, Memory-Efficient Construction of Voxelized Shadows";
-  info.kind = SchemeKind::Voxel;
-  info.params = voxelDagParams();
+  SchemeInfo info = voxelDagScheme(
+      "cpvs-fast",
+      "Kämpe, Sintorn, Assarsson 2015, Fast, Memory-Efficient Construction of Voxelized Shadows");
   info.params.push_back({"culling",
                          "reuse the node of the volume in front instead of building an identical "
                          "one (§3.2); off for Table 1's comparison",
@@ -309,21 +285,12 @@ SchemeInfo cpvsFast() {
                          0,
                          {"nearest-exit", "aligned"},
                          {"nearest-exit", "aligned"}});
-  // A tile's slice intervals, visibility masks and pyramid.
-  info.buildBytes = [](const MapInfo& map, const Params&) {
-    const uint64_t tile = std::min<uint64_t>(map.resolution, 512);
-    return tile * tile * 24 + (uint64_t(64) << 20);
-  };
   info.makeEncoder = [](const MapInfo& map, const Params& params) -> std::unique_ptr<Encoder> {
     const SchemeInfo& scheme = findScheme("cpvs-fast");
     const Params resolved = scheme.resolve(params);
     return std::make_unique<CpvsFastEncoder>(
         map, voxelDagConfig(scheme, map, params), resolved.at("culling") == "on",
         resolved.at("transitions") == "aligned" ? Transitions::Aligned : Transitions::NearestExit);
-  };
-  info.load = [](ByteReader& in, const MapInfo& map, const Params& params) {
-    const VoxelDagConfig config = voxelDagConfig(findScheme("cpvs-fast"), map, params);
-    return loadVoxelDag(in, VoxelDagShape::of(map, config.layout), config.gridLevels);
   };
   return info;
 }

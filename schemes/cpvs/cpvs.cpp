@@ -12,54 +12,28 @@
 namespace sb {
 namespace {
 
-class CpvsEncoder final : public Encoder {
+class CpvsEncoder final : public CubeColumnEncoder {
  public:
-  CpvsEncoder(const MapInfo& map, VoxelDagConfig config)
-      : shape_(VoxelDagShape::of(map, config.layout)),
-        gridLevels_(config.gridLevels),
-        dag_(shape_),
-        svo_(shape_),
-        columns_(shape_) {}
+  using CubeColumnEncoder::CubeColumnEncoder;
 
-  void consume(const DualDepthTile& tile, BuildContext& context) override {
-    const uint32_t tileSize = cubeTileSize(tile), resolution = 1u << shape_.levels;
+ private:
+  void prepareTile(const DualDepthTile& tile, BuildContext& context) override {
     context.phase("min-max");
-    tileSize_ = tileSize;
-    sliceIntervals(tile, resolution, intervals_);
-    pyramid_.emplace(tileSize, [&](uint32_t bx, uint32_t by) {
+    sliceIntervals(tile, shape_.side(0), intervals_);
+    pyramid_.emplace(tileSize(), [&](uint32_t bx, uint32_t by) {
       BlockPyramid::Bounds bounds{~0u, 0};
       for (uint32_t y = by * 8; y < by * 8 + 8; ++y)
         for (uint32_t x = bx * 8; x < bx * 8 + 8; ++x) {
-          const SliceInterval& interval = intervals_[size_t(y) * tileSize + x];
+          const SliceInterval& interval = intervals_[size_t(y) * tileSize() + x];
           bounds.litUntil = std::min(bounds.litUntil, interval.shadowBegin);
           bounds.shadowFrom = std::max(bounds.shadowFrom, interval.litEnd);
         }
       return bounds;
     });
-
-    // §6.1: sub-DAGs per tile, cube by cube down the tile's column, merged into one DAG.
-    const uint32_t cubeDepth = shape_.levels - uint32_t(std::countr_zero(tileSize));
-    std::vector<SvoChild> cubes(resolution / tileSize);
-    for (uint32_t m = 0; m < cubes.size(); ++m) {
-      context.phase("insert");
-      const SvoChild root = insert(0, 0, m * tileSize, cubeDepth);
-      context.phase("merge");
-      cubes[m] = svo_.merge(root, cubeDepth, dag_);
-      svo_.clear();
-    }
-    columns_.add(tile.x0, tile.y0, tileSize, std::move(cubes), dag_);
   }
 
-  std::unique_ptr<Decoder> finish(BuildContext& context) override {
-    context.phase("merge");
-    VoxelDag dag = dag_.finish(columns_.root(), gridLevels_);
-    context.count("svo nodes inserted", svo_.inserted());
-    context.count("dag nodes", dag_.nodeCount());
-    context.count("dag leafmasks", dag_.leafmaskCount());
-    return makeVoxelDagDecoder(std::move(dag));
-  }
+  SvoChild insertCube(uint32_t z0, uint32_t depth) override { return insert(0, 0, z0, depth); }
 
- private:
   // The volume at `depth` whose tile-local corner is (x, y, z): classified against the min-max
   // pyramid, else split and its undefined children decided by the parent rule (§6.1).
   SvoChild insert(uint32_t x, uint32_t y, uint32_t z, uint32_t depth) {
@@ -93,7 +67,7 @@ class CpvsEncoder final : public Encoder {
     for (uint32_t dz = 0, bit = 0; dz < slices; ++dz)
       for (uint32_t dy = 0; dy < side; ++dy)
         for (uint32_t dx = 0; dx < side; ++dx, ++bit) {
-          const SliceInterval& interval = intervals_[size_t(y + dy) * tileSize_ + x + dx];
+          const SliceInterval& interval = intervals_[size_t(y + dy) * tileSize() + x + dx];
           lit |= uint64_t(z + dz < interval.litEnd) << bit;
           shadowed |= uint64_t(z + dz >= interval.shadowBegin) << bit;
         }
@@ -103,33 +77,15 @@ class CpvsEncoder final : public Encoder {
     return svo_.addLeafmask(lit);
   }
 
-  VoxelDagShape shape_;
-  uint32_t gridLevels_;
-  VoxelDagBuilder dag_;
-  LocalSvo svo_;
-  TileColumns columns_;
-  uint32_t tileSize_ = 0;
   std::vector<SliceInterval> intervals_;
   std::optional<BlockPyramid> pyramid_;
 };
 
 SchemeInfo cpvs() {
-  SchemeInfo info;
-  info.name = "cpvs";
-  info.paper = "Sintorn, Kämpe, Olsson, Assarsson 2014, Compact Precomputed Voxelized Shadows";
-  info.kind = SchemeKind::Voxel;
-  info.params = voxelDagParams();
-  // A tile's slice intervals and pyramid; the DAG itself is what the build is for.
-  info.buildBytes = [](const MapInfo& map, const Params&) {
-    const uint64_t tile = std::min<uint64_t>(map.resolution, 512);
-    return tile * tile * 16 + (uint64_t(64) << 20);
-  };
+  SchemeInfo info = voxelDagScheme(
+      "cpvs", "Sintorn, Kämpe, Olsson, Assarsson 2014, Compact Precomputed Voxelized Shadows");
   info.makeEncoder = [](const MapInfo& map, const Params& params) -> std::unique_ptr<Encoder> {
     return std::make_unique<CpvsEncoder>(map, voxelDagConfig(findScheme("cpvs"), map, params));
-  };
-  info.load = [](ByteReader& in, const MapInfo& map, const Params& params) {
-    const VoxelDagConfig config = voxelDagConfig(findScheme("cpvs"), map, params);
-    return loadVoxelDag(in, VoxelDagShape::of(map, config.layout), config.gridLevels);
   };
   return info;
 }

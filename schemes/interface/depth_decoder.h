@@ -17,11 +17,7 @@ template <class Self>
 class DepthDecoder : public Decoder {
  public:
   void lookup(std::span<const Query> queries, int k, std::span<float> visibility) const final {
-    if (!validFilterSize(k))
-      throw std::invalid_argument("filter size must be odd and in [1, 17], got " +
-                                  std::to_string(k));
-    if (visibility.size() < queries.size())
-      throw std::invalid_argument("lookup: fewer answer slots than queries");
+    checkLookupArguments(queries, k, visibility);
     const Self& self = static_cast<const Self&>(*this);
     const uint32_t resolution = self.resolution();
     const int64_t radius = k / 2;

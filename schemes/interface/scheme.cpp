@@ -1,5 +1,7 @@
 #include "schemes/interface/scheme.h"
 
+#include "schemes/interface/lightspace.h"
+
 #include <algorithm>
 #include <charconv>
 
@@ -106,6 +108,13 @@ bool registerScheme(SchemeInfo info) {
                              [](const SchemeInfo& s, const std::string& n) { return s.name < n; });
   all.insert(at, std::move(info));
   return true;
+}
+
+void checkLookupArguments(std::span<const Query> queries, int k, std::span<float> visibility) {
+  if (!validFilterSize(k))
+    throw std::invalid_argument("filter size must be odd and in [1, 17], got " + std::to_string(k));
+  if (visibility.size() < queries.size())
+    throw std::invalid_argument("lookup: fewer answer slots than queries");
 }
 
 }  // namespace sb

@@ -63,6 +63,10 @@ struct Query {
 using SizeBreakdown = std::vector<std::pair<std::string, uint64_t>>;
 uint64_t totalBytes(const SizeBreakdown& sizes);
 
+// Throws std::invalid_argument unless k is an odd filter size in [1, 17] and there is an answer
+// slot per query: what every Decoder::lookup checks first.
+void checkLookupArguments(std::span<const Query> queries, int k, std::span<float> visibility);
+
 class Decoder {
  public:
   virtual ~Decoder() = default;

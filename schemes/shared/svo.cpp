@@ -136,4 +136,36 @@ DagRef TileColumns::root() const {
                                          : kLitRef;
 }
 
+CubeColumnEncoder::CubeColumnEncoder(const MapInfo& map, VoxelDagConfig config)
+    : shape_(VoxelDagShape::of(map, config.layout)),
+      svo_(shape_),
+      gridLevels_(config.gridLevels),
+      dag_(shape_),
+      columns_(shape_) {}
+
+void CubeColumnEncoder::consume(const DualDepthTile& tile, BuildContext& context) {
+  tileSize_ = cubeTileSize(tile);
+  prepareTile(tile, context);
+  std::vector<SvoChild> cubes(shape_.side(0) / tileSize_);
+  for (uint32_t m = 0; m < cubes.size(); ++m) {
+    context.phase("insert");
+    const SvoChild root = insertCube(m * tileSize_, cubeDepth());
+    context.phase("merge");
+    cubes[m] = svo_.merge(root, cubeDepth(), dag_);
+    cubeMerged();
+    svo_.clear();
+  }
+  columns_.add(tile.x0, tile.y0, tileSize_, std::move(cubes), dag_);
+}
+
+std::unique_ptr<Decoder> CubeColumnEncoder::finish(BuildContext& context) {
+  context.phase("merge");
+  VoxelDag dag = dag_.finish(columns_.root(), gridLevels_);
+  context.count("svo nodes inserted", svo_.inserted());
+  context.count("dag nodes", dag_.nodeCount());
+  context.count("dag leafmasks", dag_.leafmaskCount());
+  countConstruction(context);
+  return makeVoxelDagDecoder(std::move(dag));
+}
+
 }  // namespace sb

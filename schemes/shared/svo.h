@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "schemes/shared/voxel_dag.h"
@@ -86,6 +87,39 @@ class TileColumns {
   std::vector<Column> stack_;
   uint32_t tileSize_ = 0;
   uint64_t tilesSeen_ = 0;
+};
+
+// The encoder both CPVS constructions share (Sintorn §6.1, tiled): per tile, its column of cubes
+// is inserted cube by cube into the LocalSvo (phase "insert"), merged into the DAG ("merge") and
+// joined to the levels above; finish() lays the DAG out. A construction supplies the tile's
+// preparation and the insertion of one cube.
+class CubeColumnEncoder : public Encoder {
+ public:
+  CubeColumnEncoder(const MapInfo& map, VoxelDagConfig config);
+
+  void consume(const DualDepthTile& tile, BuildContext& context) final;
+  std::unique_ptr<Decoder> finish(BuildContext& context) final;
+
+ protected:
+  // Everything the cubes of this tile need (slice runs, masks, pyramid), under phases it names.
+  virtual void prepareTile(const DualDepthTile& tile, BuildContext& context) = 0;
+  // The cube of side tileSize() at depth `depth` whose tile-local corner is (0, 0, z0).
+  virtual SvoChild insertCube(uint32_t z0, uint32_t depth) = 0;
+  // Called after each cube's merge, while svo_.merged() still knows its nodes.
+  virtual void cubeMerged() {}
+  virtual void countConstruction(BuildContext&) const {}
+
+  uint32_t tileSize() const { return tileSize_; }
+  uint32_t cubeDepth() const { return shape_.levels - uint32_t(std::countr_zero(tileSize_)); }
+
+  VoxelDagShape shape_;
+  LocalSvo svo_;
+
+ private:
+  uint32_t gridLevels_;
+  VoxelDagBuilder dag_;
+  TileColumns columns_;
+  uint32_t tileSize_ = 0;
 };
 
 }  // namespace sb

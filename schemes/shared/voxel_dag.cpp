@@ -25,8 +25,12 @@ VoxelDagShape VoxelDagShape::of(const MapInfo& map, LeafLayout layout) {
   return {uint32_t(std::countr_zero(map.resolution)), layout};
 }
 
-std::vector<ParamSpec> voxelDagParams() {
-  return {
+SchemeInfo voxelDagScheme(std::string name, std::string paper) {
+  SchemeInfo info;
+  info.name = name;
+  info.paper = std::move(paper);
+  info.kind = SchemeKind::Voxel;
+  info.params = {
       {"leaf-layout",
        "leafmask shape: cube4 (4×4×4 voxels, Sintorn §4) or slab8 (8×8×1 under 1×1×8 parents, "
        "for PCF, §5)",
@@ -43,6 +47,15 @@ std::vector<ParamSpec> voxelDagParams() {
        {},
        {"0", "5", "7"}},
   };
+  info.buildBytes = [](const MapInfo& map, const Params&) {
+    const uint64_t tile = std::min<uint64_t>(map.resolution, 512);
+    return tile * tile * 24 + (uint64_t(64) << 20);
+  };
+  info.load = [name](ByteReader& in, const MapInfo& map, const Params& params) {
+    const VoxelDagConfig config = voxelDagConfig(findScheme(name), map, params);
+    return loadVoxelDag(in, VoxelDagShape::of(map, config.layout), config.gridLevels);
+  };
+  return info;
 }
 
 VoxelDagConfig voxelDagConfig(const SchemeInfo& scheme, const MapInfo& map, const Params& params) {
@@ -272,11 +285,7 @@ class VoxelDagDecoder final : public Decoder {
   explicit VoxelDagDecoder(VoxelDag dag) : dag_(std::move(dag)) {}
 
   void lookup(std::span<const Query> queries, int k, std::span<float> visibility) const override {
-    if (!validFilterSize(k))
-      throw std::invalid_argument("filter size must be odd and in [1, 17], got " +
-                                  std::to_string(k));
-    if (visibility.size() < queries.size())
-      throw std::invalid_argument("lookup: fewer answer slots than queries");
+    checkLookupArguments(queries, k, visibility);
     const uint32_t resolution = 1u << dag_.shape.levels;
     for (size_t q = 0; q < queries.size(); ++q) {
       const int64_t i = texelOf(queries[q].x, resolution), j = texelOf(queries[q].y, resolution);

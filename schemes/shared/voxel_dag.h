@@ -9,6 +9,7 @@
 #include <bit>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -59,9 +60,13 @@ struct VoxelDagShape {
   uint64_t leafVolume() const { return 64; }
 };
 
-// The parameters every CPVS-format scheme declares (leaf layout, top-level grid), and their
-// values for a map: the grid replaces at most the levels above the leaf parents.
-std::vector<ParamSpec> voxelDagParams();
+// The registry row every CPVS-format scheme starts from: voxel kind, the parameters of the
+// structure (leaf layout, top-level grid), the build memory (a tile's working arrays; the DAG is
+// what the build produces) and the loader. A scheme adds its own parameters and encoder.
+SchemeInfo voxelDagScheme(std::string name, std::string paper);
+
+// The structure's parameter values for a map: the grid replaces at most the levels above the
+// leaf parents.
 struct VoxelDagConfig {
   LeafLayout layout;
   uint32_t gridLevels;
