@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "harness/cell.h"
+#include "harness/distant_filters.h"
 #include "harness/lookup_timing.h"
 #include "harness/many_lights.h"
 #include "harness/progress.h"
@@ -427,6 +428,7 @@ int main(int argc, char** argv) {
                        "folder for tables.md and CSVs (default RECORDS/tables)");
 
   addManyLightsCommand(app);
+  addDistantFiltersCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -66,33 +66,37 @@ uint32_t mostAlignedSlice(uint32_t earliest, uint32_t latest) {
 // overlap; the lit region wins, as Sintorn's min-max rule keeps lit everything above the exit.
 void appendVisibilityMasks(const SliceInterval (&cells)[64], uint32_t depthResolution,
                            Transitions transitions, TileMasks& masks) {
-  // The cells in order of enter depth: the shadowed ones are always a prefix of this order, and
-  // the nearest exit depth of the others is a suffix minimum. Blocks of one enter depth (flat
-  // ground, roofs, empty sky) are common and already in order.
-  uint64_t byEnter[64];
-  bool oneEnter = true;
+  // The distinct enter depths in ascending order, each with its cells and their nearest exit:
+  // the shadowed cells are always the groups of a prefix, and the nearest exit of the others is
+  // a suffix minimum. Blocks hold few distinct depths (flat ground, roofs, empty sky).
+  uint32_t enter[64], exit[65];
+  uint64_t group[64];
+  uint32_t groups = 0;
   for (uint32_t c = 0; c < 64; ++c) {
-    byEnter[c] = uint64_t(cells[c].litEnd) << 6 | c;
-    oneEnter &= cells[c].litEnd == cells[0].litEnd;
+    const uint32_t value = cells[c].litEnd;
+    uint32_t g = 0;
+    while (g < groups && enter[g] < value) ++g;
+    if (g == groups || enter[g] != value) {
+      for (uint32_t h = groups++; h > g; --h)
+        enter[h] = enter[h - 1], group[h] = group[h - 1], exit[h] = exit[h - 1];
+      enter[g] = value, group[g] = 0, exit[g] = depthResolution;
+    }
+    group[g] |= uint64_t(1) << c;
+    exit[g] = std::min(exit[g], cells[c].shadowBegin);
   }
-  if (!oneEnter) std::sort(byEnter, byEnter + 64);
-  uint32_t nearestExit[65];
-  nearestExit[64] = depthResolution;
-  for (uint32_t i = 64; i-- > 0;)
-    nearestExit[i] = std::min(nearestExit[i + 1], cells[byEnter[i] & 63].shadowBegin);
+  exit[groups] = depthResolution;
+  for (uint32_t g = groups; g-- > 0;) exit[g] = std::min(exit[g], exit[g + 1]);
 
   masks.starts.push_back(0);
   masks.lit.push_back(~uint64_t(0));
   uint64_t shadowed = 0;
-  for (uint32_t lit = 0; lit < 64 && nearestExit[lit] < depthResolution;) {
+  for (uint32_t lit = 0; lit < groups && exit[lit] < depthResolution;) {
     // A mask changes only where it shadows one more cell, and after the previous change.
-    const uint32_t earliest = std::max(uint32_t(byEnter[lit] >> 6),
-                                       masks.starts.back() + (masks.lit.back() != ~uint64_t(0)));
-    const uint32_t next = transitions == Transitions::Aligned
-                              ? mostAlignedSlice(earliest, nearestExit[lit])
-                              : nearestExit[lit];
-    for (; lit < 64 && (byEnter[lit] >> 6) <= next; ++lit)
-      shadowed |= uint64_t(1) << (byEnter[lit] & 63);
+    const uint32_t earliest =
+        std::max(enter[lit], masks.starts.back() + (masks.lit.back() != ~uint64_t(0)));
+    const uint32_t next =
+        transitions == Transitions::Aligned ? mostAlignedSlice(earliest, exit[lit]) : exit[lit];
+    for (; lit < groups && enter[lit] <= next; ++lit) shadowed |= group[lit];
     if (masks.starts.back() == next) {
       masks.lit.back() = ~shadowed;
     } else {
@@ -150,8 +154,8 @@ class CpvsFastEncoder final : public CubeColumnEncoder {
 
   // Volumes of the next cube may reuse this cube's nodes, now in the DAG.
   void cubeMerged() override {
-    for (uint32_t d = cubeDepth(); d < reuse_.size(); ++d)
-      for (ReuseEntry& entry : reuse_[d]) entry.ref = svo_.merged(entry.ref, d);
+    for (const auto& [entry, depth] : localEntries_) entry->ref = svo_.merged(entry->ref, depth);
+    localEntries_.clear();
   }
 
   void countConstruction(BuildContext& context) const override {
@@ -251,7 +255,9 @@ class CpvsFastEncoder final : public CubeColumnEncoder {
 
   SvoChild complete(uint32_t x, uint32_t y, uint32_t z, uint32_t depth, SvoChild volume,
                     uint32_t nextSurface) {
-    entry(x, y, depth) = {z + slices(depth), nextSurface, volume};
+    ReuseEntry& completed = entry(x, y, depth);
+    completed = {z + slices(depth), nextSurface, volume};
+    if (volume.kind == SvoChild::Local) localEntries_.emplace_back(&completed, depth);
     return volume;
   }
 
@@ -262,6 +268,7 @@ class CpvsFastEncoder final : public CubeColumnEncoder {
   TileMasks masks_;
   std::optional<BlockPyramid> pyramid_;
   std::vector<std::vector<ReuseEntry>> reuse_;
+  std::vector<std::pair<ReuseEntry*, uint32_t>> localEntries_;  // this cube's nodes, by depth
   uint64_t culled_ = 0;
 };
 

@@ -21,12 +21,12 @@ struct SliceInterval {
 };
 
 // The number of slices k whose centre (k + ½)/Rz is ≤ depth, which is the first slice beyond it.
-// The centre is exact in float for k < 2^23 and depth·Rz is exact (Rz a power of two), so the
-// comparison in double decides exactly as the reference's float test voxelCentre(k) ≤ depth.
+// Exact in float: depth·Rz only shifts the exponent (Rz a power of two), − ½ is exact below
+// 2^23 > Rz, and a rounded difference never crosses an integer, so this decides exactly as the
+// reference's float test voxelCentre(k) ≤ depth; branch-free so that a tile's loop vectorises.
 inline uint32_t firstSliceBeyond(float depth, uint32_t depthResolution) {
-  const double scaled = double(depth) * depthResolution;
-  if (!(scaled >= 0.5)) return 0;
-  return uint32_t(std::min<double>(depthResolution, std::floor(scaled - 0.5) + 1.0));
+  const float count = std::floor(depth * float(depthResolution) - 0.5f) + 1.0f;
+  return uint32_t(std::clamp(count, 0.0f, float(depthResolution)));
 }
 
 // The tile's slice intervals, row-major like the tile, into `intervals` (reused from tile to
