@@ -229,12 +229,9 @@ class CpvsFastEncoder final : public CubeColumnEncoder {
     if (shape_.layout == LeafLayout::Slab8) {
       lit = masks.lit[masks.at(z)];
     } else {
-      // The 4×4 quadrant of the block at each of the four slices.
-      const uint32_t shift = (y & 4) * 8 + (x & 4);
-      for (uint32_t dz = 0; dz < 4; ++dz) {
-        const uint64_t mask = masks.lit[masks.at(z + dz)] >> shift;
-        for (uint32_t dy = 0; dy < 4; ++dy) lit |= (mask >> (8 * dy) & 0xf) << (16 * dz + 4 * dy);
-      }
+      const uint64_t slabs[4] = {masks.lit[masks.at(z)], masks.lit[masks.at(z + 1)],
+                                 masks.lit[masks.at(z + 2)], masks.lit[masks.at(z + 3)]};
+      lit = cube4FromSlabs(slabs, (x >> 2) & 1, (y >> 2) & 1);
     }
     return complete(x, y, z, depth, svo_.addLeafmask(lit), nextSurface);
   }

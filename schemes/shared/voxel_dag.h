@@ -60,6 +60,17 @@ struct VoxelDagShape {
   uint64_t leafVolume() const { return 64; }
 };
 
+// The cube4 leafmask (bit x + 4y + 16z) of the 4×4 quadrant (quadrantX, quadrantY) of an 8×8
+// block over four consecutive slices, from the block's 8×8 masks of those slices (bit x + 8y).
+inline uint64_t cube4FromSlabs(const uint64_t (&slabs)[4], uint32_t quadrantX, uint32_t quadrantY) {
+  uint64_t cube = 0;
+  for (uint32_t dz = 0; dz < 4; ++dz) {
+    const uint64_t slab = slabs[dz] >> (32 * quadrantY + 4 * quadrantX);
+    for (uint32_t dy = 0; dy < 4; ++dy) cube |= (slab >> (8 * dy) & 0xf) << (16 * dz + 4 * dy);
+  }
+  return cube;
+}
+
 // The registry row every CPVS-format scheme starts from: voxel kind, the parameters of the
 // structure (leaf layout, top-level grid), the build memory (a tile's working arrays; the DAG is
 // what the build produces) and the loader. A scheme adds its own parameters and encoder.
