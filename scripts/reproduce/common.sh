@@ -5,12 +5,13 @@
 # results/reproduce/<table>/records, the sweeps' output to results/reproduce/<table>/sweep.log
 # and the table to results/reproduce/<table>.md.
 set -euo pipefail
-table=$(basename "$0" .sh)
+script=$(realpath "$0")
+table=$(basename "$script" .sh)
 command_line="scripts/reproduce/$table.sh${*:+ $*}"
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 
 usage() {
-  sed -n '2,/^#   scripts/s/^# \{0,1\}//p' "$0"
+  sed -n '2,/^#   scripts/s/^# \{0,1\}//p' "$script"
   echo "Options: --max-resolution R (default 64K, e.g. 4K for a quick run); any other argument"
   echo "goes to every 'shadowbench sweep' (e.g. --no-bench, --sampled-queries 1000000)."
 }
