@@ -2,7 +2,7 @@
 # Sourced by the scripts of scripts/reproduce/ (not run): reads --max-resolution (every other
 # argument goes to each sweep), builds shadowbench (Release, in build/ or $SHADOWBENCH_BUILD),
 # and gives each script `resolutions`, `sweep` and `tabulate`. Records go to
-# results/reproduce/<table>/records, the sweeps' output to results/reproduce/<table>/sweep.log
+# results/reproduce/records, the sweeps' output to results/reproduce/<table>/sweep.log
 # and the table to results/reproduce/<table>.md.
 set -euo pipefail
 script=$(realpath "$0")
@@ -56,7 +56,8 @@ resolutions() {
 }
 
 out=results/reproduce
-records=$out/$table/records
+# One records folder for every table: a cell two tables need is built once.
+records=$out/records
 log=$out/$table/sweep.log
 mkdir -p "$out/$table"
 build_dir=${SHADOWBENCH_BUILD:-build}
