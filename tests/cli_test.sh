@@ -42,6 +42,16 @@ grep -q "1 cells built, 1 already done" "$work/sweep2.txt" || fail "resumed swee
 "$sb" table "$work/sweep" | grep -q "| sm32 |" || fail "table from records"
 [ -f "$work/sweep/tables/tables.md" ] || fail "tables.md not written"
 
+# A sweep parameter goes to the schemes that declare it and names the cell; an unknown one is
+# refused before anything is built.
+"$sb" sweep --schemes sm32,cpvs-fast -p culling=off --scenes city --resolutions 64 --out "$work/params" --no-bench > /dev/null
+ls "$work/params" | grep -q "cpvs-fast_culling-off" || fail "sweep -p names the cell: $(ls "$work/params")"
+ls "$work/params" | grep -q "_sm32_" || fail "sweep -p leaves schemes without the parameter alone"
+set +e
+"$sb" sweep --schemes sm32 -p culling=off --scenes city --resolutions 64 --out "$work/refused" --no-bench > /dev/null 2> "$work/err.txt"; rc=$?
+set -e
+[ $rc -eq 2 ] && [ ! -e "$work/refused" ] || fail "undeclared sweep parameter: rc $rc, $(cat "$work/err.txt")"
+
 "$sb" scene export --scene forest -o "$work/forest.obj" > /dev/null
 grep -q "^o open_" "$work/forest.obj" || fail "export names open meshes"
 echo "1 passed, 0 failed"

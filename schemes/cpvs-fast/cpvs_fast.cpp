@@ -6,9 +6,7 @@
 #include <bit>
 #include <optional>
 
-#include <fmt/format.h>
 
-#include "schemes/interface/serial.h"
 #include "schemes/shared/slice_interval.h"
 #include "schemes/shared/svo.h"
 

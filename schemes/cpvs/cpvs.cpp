@@ -4,9 +4,7 @@
 #include <algorithm>
 #include <optional>
 
-#include <fmt/format.h>
 
-#include "schemes/interface/serial.h"
 #include "schemes/shared/slice_interval.h"
 #include "schemes/shared/svo.h"
 
