@@ -6,7 +6,6 @@
 #include <bit>
 #include <optional>
 
-
 #include "schemes/shared/slice_interval.h"
 #include "schemes/shared/svo.h"
 

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <optional>
 
-
 #include "schemes/shared/slice_interval.h"
 #include "schemes/shared/svo.h"
 
