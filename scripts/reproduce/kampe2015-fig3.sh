@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Kämpe et al. 2015, Fig. 3 and §5.3: a `cpvs-fast` structure for each of 165 spot lights over
+# city (≈ ClosedCity) at 8K³ each with logarithmic depth (eq. 1), the distribution of their sizes
+# and build times with the paper's figures beside, and all lights evaluated for one view with a
+# light list per 8×8 screen tile. Writes results/reproduce/kampe2015-fig3.md; resumes per light.
+#   scripts/reproduce/kampe2015-fig3.sh [--max-resolution 8K] [many-lights options, e.g. --lights 40]
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+resolution=8K
+args=()
+while [ $# -gt 0 ]; do
+  case $1 in
+    --max-resolution) resolution=$2; shift 2 ;;
+    --max-resolution=*) resolution=${1#*=}; shift ;;
+    *) args+=("$1"); shift ;;
+  esac
+done
+scripts/install-deps.sh
+build_dir=${SHADOWBENCH_BUILD:-build}
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build_dir" -j "$(nproc)" --target shadowbench
+out=results/reproduce/kampe2015-fig3
+"$build_dir/harness/shadowbench" many-lights --scene city --lights 165 --scheme cpvs-fast -m closed \
+  -r "$resolution" --out "$out" "${args[@]}"
+cp "$out/summary.md" results/reproduce/kampe2015-fig3.md
+echo "wrote results/reproduce/kampe2015-fig3.md"
