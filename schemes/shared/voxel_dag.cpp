@@ -315,7 +315,7 @@ class VoxelDagDecoder final : public Decoder {
   // above the grid have no nodes left and answer at the grid's depth.
   float occupancy(uint32_t x, uint32_t y, uint32_t z, uint32_t depth) const {
     const VoxelDagShape& shape = dag_.shape;
-    DagRef ref = dag_.grid[gridCell(x, y, z)];
+    DagRef ref = dag_.grid[cellOf(dag_, x, y, z)];
     for (uint32_t d = dag_.gridLevels;; ++d) {
       if (!isNodeRef(ref)) return ref == kLitRef ? 1.0f : 0.0f;
       const uint32_t header = dag_.nodes[ref];
@@ -391,7 +391,6 @@ class VoxelDagDecoder final : public Decoder {
     const uint32_t shift = dag.shape.levels - dag.gridLevels, cells = 1u << dag.gridLevels;
     return (size_t(z >> shift) * cells + (y >> shift)) * cells + (x >> shift);
   }
-  size_t gridCell(uint32_t x, uint32_t y, uint32_t z) const { return cellOf(dag_, x, y, z); }
 
   bool pointLit(uint32_t x, uint32_t y, uint32_t z) const {
     Walk walk(dag_);

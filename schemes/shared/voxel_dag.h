@@ -113,7 +113,6 @@ class VoxelDagBuilder {
 
   uint64_t nodeCount() const;
   uint64_t leafmaskCount() const;
-  const VoxelDagShape& shape() const { return shape_; }
 
   // Lays the DAG out for lookups with the top `gridLevels` levels replaced by a grid.
   VoxelDag finish(DagRef root, uint32_t gridLevels);
