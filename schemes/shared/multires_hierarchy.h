@@ -1,0 +1,107 @@
+// The multiresolution hierarchy (MH) of a dual depth map (Scandolo et al. 2016a), built once and
+// shared by the three depth-interval schemes: `mh` serialises it as is, `mmh` merges its
+// subtrees, `dag-mh` stores its topology as a DAG and its values in chunks.
+//
+// Depths are handled as *depth keys*: the bit pattern of a non-negative float32, which orders
+// exactly as the floats do. Intervals are key intervals, a value chosen inside one is a float
+// inside the texel's [lo, hi] bit for bit, and relative values (MMH) are exact integer
+// differences instead of rounded float differences.
+#pragma once
+
+#include <bit>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "schemes/interface/scheme.h"
+
+namespace sb {
+
+// The depth key of d ≥ 0 (+0 for -0; +inf allowed). Throws std::invalid_argument for a negative
+// or NaN depth: a dual depth map never holds one (DESIGN §2: z ∈ [0, 1], hi may be +inf).
+uint32_t depthKey(float d);
+inline float depthOfKey(uint32_t key) {
+  return std::bit_cast<float>(key);
+}
+
+// A key interval [lo, hi]; a node's value may be any key inside it.
+struct KeyInterval {
+  uint32_t lo = 0, hi = 0;
+  // The value a scheme stores for the interval: its middle key, away from both bounds so that
+  // the largest number of neighbours still contain it.
+  uint32_t middle() const { return lo + (hi - lo) / 2; }
+};
+
+// The 2-bit child flags of SBE16a: which of the four children exist and what they are.
+enum class MhChild : uint8_t {
+  None = 0,   // represented by an ancestor's value, nothing stored
+  Full = 1,   // an inner node with a value of its own
+  Empty = 2,  // an inner node without a value: represented by an ancestor, but has descendants
+  Leaf = 3,   // a value and no descendants
+};
+
+// Children are numbered by their quadrant, k = 2·(y bit) + (x bit) at the child's level, so that
+// depth-first order is Morton order.
+constexpr int kMhChildren = 4;
+inline int mhChildIndex(uint32_t i, uint32_t j, int bit) {
+  return int(((j >> bit) & 1) << 1 | ((i >> bit) & 1));
+}
+
+struct MhNode {
+  KeyInterval interval;     // Full and Leaf nodes: the interval their value must lie in
+  uint32_t firstChild = 0;  // index in MultiresHierarchy::nodes of the first existing child
+  uint8_t childFlags = 0;   // MhChild of child k in bits 2k, 2k+1
+  MhChild child(int k) const { return MhChild((childFlags >> (2 * k)) & 3); }
+  bool hasChildren() const { return childFlags != 0; }
+};
+
+// The sparse quadtree. A node's existing children are contiguous in `nodes` (a sibling pack, in
+// child order), packs come before their parents, and the root is the last node. The root always
+// has a value: it represents the largest group of the top level.
+struct MultiresHierarchy {
+  uint32_t resolution = 0;  // R = 2^levels; the root is level 0, texels are level `levels`
+  int levels = 0;
+  std::vector<MhNode> nodes;
+
+  uint32_t root() const { return uint32_t(nodes.size() - 1); }
+  // The existing children of `node` are nodes[firstChild, firstChild + childCount).
+  static int childCount(const MhNode& node);
+  // Index of child k, which must exist.
+  static uint32_t childNode(const MhNode& node, int k);
+  // The value interval of the deepest node with a value on texel (i, j)'s path: what every
+  // lookup of the hierarchy answers (SBE16a §4). For tests and the schemes' builders.
+  KeyInterval texelInterval(uint32_t i, uint32_t j) const;
+};
+
+// Builds the MH bottom-up tile by tile (SBE16a §3, "tiled construction"): each tile's levels are
+// reduced to one node, and the tile roots, arriving in Morton order, are reduced the same way to
+// the root. At every 2×2 group the largest subset of children whose intervals intersect moves
+// up as the parent's interval (their intersection); the others are stored.
+class MhBuilder {
+ public:
+  explicit MhBuilder(const MapInfo& map);
+  // Tiles must be square, a power of two wide, and arrive in Morton order (the harness's order).
+  void consume(const DualDepthTile& tile);
+  MultiresHierarchy finish();
+  // The builder's working memory beyond the nodes it keeps, for SchemeInfo::buildBytes.
+  static uint64_t workingBytes(uint32_t tileSize);
+
+  // A node of the bottom-up reduction before its parent decides whether to store it.
+  struct Pending {
+    KeyInterval interval;
+    uint32_t firstChild = 0;
+    uint8_t childFlags = 0;
+  };
+
+ private:
+  Pending reduce(const Pending (&children)[kMhChildren]);
+
+  MultiresHierarchy hierarchy_;
+  uint64_t consumedTiles_ = 0;
+  std::vector<Pending> level_, next_;
+  // Tile roots waiting for their three siblings, by level: Morton order completes each group
+  // of four before the next begins.
+  std::vector<std::pair<int, Pending>> waiting_;
+};
+
+}  // namespace sb
