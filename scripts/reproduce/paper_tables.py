@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
-"""The CPVS paper tables from shadowbench records, the papers' figures beside ours.
+"""The CPVS and MH-family paper tables from shadowbench records, the papers' figures beside ours.
 
     /usr/bin/python3 scripts/reproduce/paper_tables.py TABLE RECORDS_DIR
         [--max-resolution 64K] [--command "how the records were made"]
 
-TABLE is one of sintorn2014-fig9, kampe2015-table1 … kampe2015-table4, cpvs-lookup; the
-Markdown goes to standard output. Records are read as scripts/plot.py reads them (complete
-records only, the newest of a cell). Columns are our resolutions and the paper's up to
---max-resolution. The papers' figures are data in this file, as printed (their "KB"/"MB" are
-10^3/10^6 bytes: Sintorn's percentages of 2·R² bytes give Kämpe's "old" MB only in decimal MB).
+TABLE is one of sintorn2014-fig9, kampe2015-table1 … kampe2015-table4, cpvs-lookup (CPVS),
+scandolo2016-table1 … table3, scandolo2016-fig8, scandolo2021-table1 … table4, mh-lookup (MH
+family); the Markdown goes to standard output. Records are read as scripts/plot.py reads them
+(complete records only, the newest of a cell). Columns are our resolutions and the paper's up to
+--max-resolution. The papers' figures are data in this file, as printed (the CPVS papers' "KB"/
+"MB" are 10^3/10^6 bytes: Sintorn's percentages of 2·R² bytes give Kämpe's "old" MB only in
+decimal MB; the MH papers' "MB" are 2^20 bytes, see their section below).
 """
 
 import argparse
@@ -108,7 +110,9 @@ KAMPE_TABLE4 = {
 SINTORN_WORST_RATIO = {9: 2.5, 17: 4.5}
 
 # Triangles of the papers' scenes (Sintorn 2014 §7; Kämpe 2015 uses the same scenes and light).
-PAPER_TRIANGLES = {"ClosedCity": "613k", "FractalLandscape": "2.1M", "Necropolis": "2.1M"}
+PAPER_TRIANGLES = {"ClosedCity": "613k", "FractalLandscape": "2.1M", "Necropolis": "2.1M",
+                   # Scandolo et al. 2016 §4; Scandolo & Eisemann 2021 gives no counts
+                   "CLOSED CITY": "613k", "CITYSCAPE": "11k", "VILLA": "89k", "SHIP": "810k"}
 CULLING_ON = {"culling": "on"}  # cpvs-fast as Kämpe's Tables 2-4 measure it
 
 
@@ -290,8 +294,19 @@ def preamble(title, args, records, scenes, units):
         count = records.triangles.get(g)
         return f", {count / 1e6:.2f}M triangles" if isinstance(count, int) else ""
 
-    ours = "; ".join(f"`{records.scene_names.get(g, g)}`{triangles(g)} for {paper} "
-                     f"({PAPER_TRIANGLES[paper]} triangles)" for paper, g in scenes)
+    def paper_scene(paper):
+        count = PAPER_TRIANGLES.get(paper)
+        return f"{paper} ({count} triangles)" if count else f"{paper} (triangles not given)"
+
+    stands_for = {}  # generator → the paper scenes it stands in for, in the order given
+    for paper, g in scenes:
+        stands_for.setdefault(g, [])
+        if paper:
+            stands_for[g].append(paper_scene(paper))
+    ours = "; ".join(f"`{records.scene_names.get(g, g)}`{triangles(g)} "
+                     + (f"for {' and '.join(papers)}" if papers else
+                        "(no counterpart in the paper)")
+                     for g, papers in stands_for.items())
     lines.append(f"- Scenes: {ours} (our generator stands in for the paper's scene; the "
                  "scenes are not the same geometry, so compare trends, not digits)")
     lines.append(f"- Units: {units}")
@@ -545,6 +560,637 @@ def cpvs_lookup(records, args):
     return lines
 
 
+# --- Scandolo et al. 2016 (MMH) and Scandolo & Eisemann 2021 (DAG-MH) -------------------------
+# Their "MB" is read as 2^20 bytes (MiB): the 2021 paper's Uncompressed row is 4·R² bytes / 2^20
+# (64 at 4K², 1048576 at 512K²), and its Table 3 treelet sizes at 16K² are 12-byte treelets
+# (§3.2) / 2^20 (21595 × 12 B = 0.247, 14666 × 44 B = 0.615); the 2016 paper, by the same
+# authors, does not say and is read the same way. Cells are as printed ("-": not in the paper).
+
+# Scandolo, Bauszat, Eisemann 2016, Merged Multiresolution Hierarchies, at 4K² 16K² 64K² 256K².
+MMH_RESOLUTIONS = [4 * K, 16 * K, 64 * K, 256 * K]
+# Table 1, size in MB: DAG [KSA13], MH [SBE16], MMH ("Ours", local search distance 1000).
+MMH_TABLE1 = {
+    "CLOSED CITY": {"DAG": "0.62 3.40 14.90 60.46", "MH": "0.41 2.10 9.33 38.43",
+                    "MMH": "0.30 1.43 5.80 23.73"},
+    "CITYSCAPE": {"DAG": "0.94 3.94 16.38 63.34", "MH": "0.60 2.73 11.53 47.07",
+                  "MMH": "0.40 1.67 6.83 27.71"},
+    "VILLA": {"DAG": "1.78 9.27 39.70 166.47", "MH": "0.88 5.01 23.61 101.52",
+              "MMH": "0.63 3.62 17.36 74.11"},
+    "SHIP": {"DAG": "2.01 8.66 35.57 153.67", "MH": "1.11 5.64 24.57 102.36",
+             "MMH": "0.82 3.83 16.34 67.64"},
+}
+# Table 2, creation time in seconds: DAG [KSA15], MH, MMH.
+MMH_TABLE2 = {
+    "CLOSED CITY": {"DAG": "0.098 0.53 4.88 65.23", "MH": "0.27 1.24 5.80 56.17",
+                    "MMH": "0.37 1.59 8.72 72.54"},
+    "SHIP": {"DAG": "0.12 0.67 6.16 78.74", "MH": "0.31 1.59 7.08 69.30",
+             "MMH": "0.54 3.1 15.6 109.9"},
+}
+# Table 3, early rejections as % of the node pairs tested: interval mismatch, offset too large,
+# full test rejection (tested in that order).
+MMH_TABLE3 = {
+    "CLOSED CITY": {16 * K: "67.2 0.00 32.63", 64 * K: "64.8 0.28 34.76",
+                    256 * K: "63.5 11.9 24.39"},
+    "CITYSCAPE": {16 * K: "64.88 0.00 34.90", 64 * K: "62.15 1.49 36.21",
+                  256 * K: "61.94 13.51 24.44"},
+}
+# Fig. 8 is a plot (size against merging time, CLOSED CITY and VILLA at 64K²) without printed
+# numbers; the text calls 500–1000 a reasonable trade-off and uses 1000 throughout.
+MMH_SEARCH_DISTANCES = [0, 10, 100, 250, 500, 1000, 2000, 5000, 10000]
+
+# Scandolo, Eisemann 2021, DAG Encoding for Compressed Shadow Maps.
+DAGMH_RESOLUTIONS = [4 * K << i for i in range(8)]  # 4K² … 512K²
+# Table 1, size in MB: DAG [KSA15], MMH [SBE16b], DAG-MH.
+DAGMH_TABLE1 = {
+    "Citadel": {"DAG": "0.737 1.79 3.88 8.25 17.00 34.4 69.6 139.7",
+                "MMH": "0.351 0.765 1.58 3.24 6.52 13.26 26.93 54.49",
+                "DAG-MH": "0.252 0.571 1.21 2.43 4.68 8.84 16.59 31.16"},
+    "City": {"DAG": "0.929 2.01 3.90 8.10 16.73 33.72 67.89 135.9",
+             "MMH": "0.411 0.845 1.71 3.44 6.99 13.90 27.90 55.54",
+             "DAG-MH": "0.329 0.663 1.29 2.47 4.70 8.83 16.73 31.45"},
+    "Trees": {"DAG": "2.06 5.03 10.71 22.41 45.62 93.46 190.6 384.6",
+              "MMH": "0.767 1.898 4.394 9.73 20.85 43.36 88.34 177.6",
+              "DAG-MH": "0.480 1.23 2.96 6.54 13.66 27.53 54.19 104.9"},
+    "Dinos": {"DAG": "1.82 3.67 7.29 15.21 31.93 67.24 139.1 281.4",
+              "MMH": "0.875 1.79 3.69 7.65 15.90 32.41 65.41 131.2",
+              "DAG-MH": "0.542 1.07 2.09 4.04 7.71 14.57 27.40 51.50"},
+    "Hairball": {"DAG": "21.21 40.69 71.52 133.60 262.50 532.23 1086.56 -",
+                 "MMH": "5.56 12.37 27.28 58.53 122.46 251.10 - -",
+                 "DAG-MH": "3.73 8.66 18.01 35.33 67.32 127.09 239.9 -"},
+}
+DAGMH_UNCOMPRESSED = "64 256 1024 4096 16384 65536 262144 1048576"
+# Table 2, compression time in seconds (Citadel) at 4K² 16K² 64K² 256K².
+DAGMH_TABLE2_RESOLUTIONS = MMH_RESOLUTIONS
+DAGMH_TABLE2 = {"DAG": "0.047 0.351 4.110 59.85", "MH": "0.251 0.774 5.488 59.30",
+                "MMH": "0.257 1.465 10.67 84.42", "DAG-MH": "0.247 0.875 6.225 62.33"}
+# §4.1: the dual shadow map is about 80% of DAG-MH's total creation time.
+DAGMH_DEPTH_SHARE = 80
+# Table 3 (Citadel), by treelet height 2 3 4 5: sizes in MB, counts.
+DAGMH_TREELET_HEIGHTS = [2, 3, 4, 5]
+DAGMH_TABLE3 = {
+    16 * K: {"DAG structure size": "0.756 0.696 0.622 0.788",
+             "Inner nodes": "52746 47086 26425 12452", "Nodes size": "0.756 0.668 0.375 0.172",
+             "Treelets": "23 5683 21595 14666", "Treelets size": "<0.001 0.027 0.247 0.615"},
+    64 * K: {"DAG structure size": "2.475 2.399 2.261 3.493",
+             "Inner nodes": "177882 170726 124947 66475", "Nodes size": "2.475 1.585 0.831 0.704",
+             "Treelets": "23 7179 47157 61164", "Treelets size": "<0.001 0.814 1.430 2.789"},
+}
+# Table 4 (Citadel), by values per chunk 16 32 64 128. The 64K² "chunks factors size" at 16 is
+# printed 0.169, but the row's own sum (2.897 − 1.728) says 1.169.
+DAGMH_CHUNK_SIZES = [16, 32, 64, 128]
+DAGMH_TABLE4 = {
+    16 * K: {"DAG values size": "0.688 0.588 0.578 0.592",
+             "Chunks map size": "0.397 0.220 0.132 0.088",
+             "Chunks factors size": "0.291 0.368 0.446 0.504",
+             "Avg. factor qty": "57.6% 61.5% 64.6% 67.7%",
+             "Avg. factor bits": "10.95 13.09 15.33 16.71"},
+    64 * K: {"DAG values size": "2.897 2.423 2.362 2.388",
+             "Chunks map size": "1.728 0.960 0.576 0.384",
+             "Chunks factors size": "0.169 1.463 1.786 2.004",
+             "Avg. factor qty": "52.6% 56.3% 59.5% 62.3%",
+             "Avg. factor bits": "10.87 12.89 15.13 16.48"},
+}
+# Lookup cost, as the papers state it in words (GPU, a full HD view, hierarchical PCF):
+# MMH 2016 §4: at 256K² below 1 ms per frame for single queries, 1–2.5 ms with 3×3 PCF, and no
+# measurable difference to MH. DAG-MH 2021 §4.2 (Citadel, 64K²): about 0.5 ms single, 1 ms 3×3,
+# 2.5 ms 5×5; single queries about as fast as MMH, 3×3 and 5×5 about half as fast.
+DAGMH_LOOKUP_MS = {1: 0.5, 3: 1.0, 5: 2.5}
+
+# The parameters the papers' rows are built with (each scheme's default): a table picks its
+# records by them, so that variants of Fig. 8 and Tables 3 and 4 in the same folder stay apart.
+MH_FAMILY_PARAMS = {
+    "mh": None,
+    "mmh": {"search-distance": "1000"},
+    "dag-mh": {"treelet-height": "4", "chunk-size": "32", "skip-level": "6"},
+    "cpvs": {"grid-levels": "0", "leaf-layout": "slab8"},
+    "cpvs-fast": {"grid-levels": "0", "leaf-layout": "slab8", "culling": "on",
+                  "transitions": "aligned"},
+}
+# cpvs is built on forest and tangle only up to this resolution (the scripts' budget).
+CPVS_CAPPED = {"forest": 16 * K, "tangle": 16 * K}
+CPVS_NOTE = ("`cpvs` (the papers' DAG) is built on forest and tangle only up to 16K²: the voxel "
+             "DAG of a detailed open-ish scene grows fast (forest open at 64K² took 18 minutes "
+             "and 5.8 GiB here), beyond the budget of these scripts; those cells print –. "
+             "`cpvs-fast` (Kämpe 2015, the [KSA15] of the 2021 paper and of Table 2 in 2016) "
+             "is shown where the CPVS tables built it; these scripts do not build it.")
+MH_TIME_UNITS = ("seconds of wall time, 3 significant digits. total = the whole build with the "
+                 "dual depth map included (the record's time_s.total); without depth = total − "
+                 "the depth-map time (time_s.depth, tracing thread-seconds / threads) — "
+                 "approximate, as the map is traced while the encoder consumes earlier tiles. "
+                 "Every cell traces its own depth map. Paper: GPU (CUDA) + CPU builds on an "
+                 "i7-5820K with a Titan X (2016) / Titan V (2021), the dual shadow map included "
+                 "(the 2021 paper: about 80% of DAG-MH's time); ours is CPU only, 2 cores.")
+
+
+def mh_cells(records, scheme, scene, mode, params=None):
+    """{resolution: record} of `scheme` with the papers' parameters (or `params` over them)."""
+    base = MH_FAMILY_PARAMS.get(scheme)
+    return records.find(scheme, scene, mode, {**(base or {}), **(params or {})} or None)
+
+
+def mib(record):
+    return size_bytes(record) / MIB
+
+
+def component_bytes(record, *names):
+    """The sum of the named size components, None if the record lacks one."""
+    parts = (record.get("size_bytes") or {}).get("components") or {}
+    values = [parts.get(name) for name in names]
+    return None if any(not isinstance(v, (int, float)) for v in values) else sum(values)
+
+
+def component_mib(record, *names):
+    value = component_bytes(record, *names)
+    return None if value is None else value / MIB
+
+
+def count(record, name):
+    return counter(record, name, 1)
+
+
+def ratio_of(numerator, denominator, scale=1.0):
+    return (scale * numerator / denominator
+            if numerator is not None and denominator not in (None, 0) else None)
+
+
+def without_depth(record):
+    total, depth = total_seconds(record), depth_seconds(record)
+    return total - depth if isinstance(total, (int, float)) and isinstance(depth,
+                                                                            (int, float)) else None
+
+
+def paper_mib(text, resolutions):
+    """A printed row of MB (read as 2^20 bytes, i.e. MiB) as {resolution: MiB}."""
+    return parse_row(text, resolutions, float)
+
+
+def verbatim(text, columns):
+    return text.split() if columns is None else dict(zip(columns, text.split()))
+
+
+def mh_columns(records, schemes, builds, paper_resolutions, args):
+    """Our resolutions of the MH-family schemes on the builds, and the paper's up to the maximum
+    (the CPVS tables' 1K²… cells of cpvs do not add columns)."""
+    ours = {r for scheme in schemes for scene, mode, *_ in builds
+            for r in mh_cells(records, scheme, scene, mode)}
+    return resolution_columns(ours, paper_resolutions, args.max_resolution)
+
+
+def size_rows(records, scene, mode, schemes, columns):
+    """A size row (MiB) per scheme; cpvs-fast only where built; cpvs over its cap is '–'."""
+    rows = []
+    for scheme, label in schemes:
+        cells = mh_cells(records, scheme, scene, mode)
+        if scheme == "cpvs-fast" and not cells:
+            continue
+        values = {r: mib(rec) for r, rec in cells.items()}
+        note = ""
+        if scheme == "cpvs" and scene in CPVS_CAPPED and any(r > CPVS_CAPPED[scene]
+                                                             for r in columns):
+            note = f", not built above {heading(CPVS_CAPPED[scene])}"
+        rows.append(row(f"{scheme} {scene} {mode} ({label}{note})", values, columns))
+    return rows
+
+
+def scandolo2016_table1(records, args):
+    builds = [("city", "closed", ["CLOSED CITY", "CITYSCAPE"]), ("terrain", "closed", []),
+              ("forest", "closed", ["VILLA", "SHIP"]), ("city", "open", [])]
+    schemes = [("cpvs", "DAG"), ("cpvs-fast", "DAG, Kämpe 2015"), ("mh", "MH"),
+               ("mmh", "MMH, search distance 1000")]
+    columns = mh_columns(records, ("mh", "mmh"), builds, MMH_RESOLUTIONS, args)
+    lines = preamble(
+        "Scandolo et al. 2016 (MMH), Table 1 — size of DAG, MH and MMH", args, records,
+        [("CLOSED CITY", "city"), ("CITYSCAPE", "city"), (None, "terrain"), ("VILLA", "forest"),
+         ("SHIP", "forest")],
+        "MiB = 2^20 bytes, 3 significant digits. Paper: \"MB\", read as 2^20 bytes (the 2021 "
+        "paper's Uncompressed row is 4·R²/2^20; this paper does not say), as printed. Schemes: "
+        "mh = Scandolo 2016a (no merging), mmh = merged MH with the paper's local search distance "
+        "1000, cpvs = Sintorn 2014's voxel DAG (the paper's DAG column). Mode closed, as in the "
+        "paper; the city open row has no paper counterpart (open: hi = lo wherever a ray hits, "
+        "so subtrees merge only where their relative depths are equal).")
+    lines += [CPVS_NOTE + " – = not built / not in the paper.", ""]
+    ratio_rows = []
+    for scene, mode, papers in builds:
+        rows = size_rows(records, scene, mode, schemes, columns)
+        for paper in papers:
+            for method in ("DAG", "MH", "MMH"):
+                rows.append(row(f"paper: {paper} {method}",
+                                paper_mib(MMH_TABLE1[paper][method], MMH_RESOLUTIONS), columns))
+        stands = f" (stands in for {', '.join(papers)})" if papers else " (no paper counterpart)"
+        lines += [f"## {scene} {mode}{stands}", "",
+                  markdown_table(["build"] + [heading(r) for r in columns], rows)]
+        mh, mmh, cpvs = (mh_cells(records, s, scene, mode) for s in ("mh", "mmh", "cpvs"))
+        ratio_rows.append(row(f"{scene} {mode}: mmh / mh", {
+            r: ratio_of(mib(mmh[r]), mib(mh[r]), 100) for r in columns if r in mh and r in mmh},
+            columns))
+        ratio_rows.append(row(f"{scene} {mode}: mmh / cpvs", {
+            r: ratio_of(mib(mmh[r]), mib(cpvs[r]), 100) for r in columns
+            if r in cpvs and r in mmh}, columns))
+        for paper in papers:
+            sizes = {m: paper_mib(MMH_TABLE1[paper][m], MMH_RESOLUTIONS) for m in ("DAG", "MH",
+                                                                                   "MMH")}
+            for other in ("MH", "DAG"):
+                ratio_rows.append(row(f"paper: {paper} MMH / {other}", {
+                    r: ratio_of(sizes["MMH"][r], sizes[other][r], 100) for r in sizes["MMH"]},
+                    columns))
+    lines += ["## MMH as % of MH and of the DAG", "",
+              "The paper: MMH up to 40% smaller than MH and up to 60% smaller than the DAG; "
+              "31.3% higher compression than MH on average over its scenes and resolutions.", "",
+              markdown_table(["size ratio (%)"] + [heading(r) for r in columns], ratio_rows)]
+    return lines
+
+
+def time_rows(records, scene, mode, schemes, columns):
+    rows = []
+    for scheme, label in schemes:
+        cells = mh_cells(records, scheme, scene, mode)
+        if scheme == "cpvs-fast" and not cells:
+            continue
+        rows.append(row(f"{scheme} ({label}): total",
+                        {r: total_seconds(rec) for r, rec in cells.items()}, columns))
+        rows.append(row(f"{scheme} ({label}): without depth",
+                        {r: without_depth(rec) for r, rec in cells.items()}, columns))
+    return rows
+
+
+def scandolo2016_table2(records, args):
+    builds = [("city", "closed", "CLOSED CITY"), ("forest", "closed", "SHIP")]
+    schemes = [("cpvs", "DAG"), ("cpvs-fast", "DAG, Kämpe 2015"), ("mh", "MH"), ("mmh", "MMH")]
+    columns = mh_columns(records, ("mh", "mmh"), builds, MMH_RESOLUTIONS, args)
+    lines = preamble(
+        "Scandolo et al. 2016 (MMH), Table 2 — creation time of DAG, MH and MMH", args, records,
+        [("CLOSED CITY", "city"), ("SHIP", "forest")],
+        MH_TIME_UNITS + " The paper's DAG times are Kämpe 2015's GPU build ([KSA15]); our DAG "
+        "row is `cpvs` (Sintorn 2014, CPU), with `cpvs-fast` where built.")
+    lines += [CPVS_NOTE + " – = not built / not in the paper.", ""]
+    for scene, mode, paper in builds:
+        rows = time_rows(records, scene, mode, schemes, columns)
+        for method in ("DAG", "MH", "MMH"):
+            rows.append(row(f"paper: {paper} {method}",
+                            parse_row(MMH_TABLE2[paper][method], MMH_RESOLUTIONS, float), columns))
+        mh, mmh = (mh_cells(records, s, scene, mode) for s in ("mh", "mmh"))
+        for label, of in (("total", total_seconds), ("without depth", without_depth)):
+            rows.append(row(f"mmh / mh ({label})", {
+                r: ratio_of(of(mmh[r]), of(mh[r])) for r in columns if r in mh and r in mmh},
+                columns))
+        paper_mh, paper_mmh = (parse_row(MMH_TABLE2[paper][m], MMH_RESOLUTIONS, float)
+                               for m in ("MH", "MMH"))
+        rows.append(row(f"paper: {paper} MMH / MH",
+                        {r: paper_mmh[r] / paper_mh[r] for r in paper_mh}, columns))
+        lines += [f"## {scene} {mode} (stands in for {paper})", "",
+                  markdown_table(["build"] + [heading(r) for r in columns], rows)]
+    lines += ["The paper: MMH adds 30% to 150% to the creation time of MH and DAG at the higher "
+              "resolutions.", ""]
+    return lines
+
+
+def scandolo2016_table3(records, args):
+    found = mh_cells(records, "mmh", "city", "closed")
+    paper_resolutions = sorted({r for rows in MMH_TABLE3.values() for r in rows})
+    # ours from 16K² as in the paper, or every resolution in a quick run below 16K²
+    resolutions = sorted({r for r in found if r >= 16 * K or args.max_resolution < 16 * K}
+                         | {r for r in paper_resolutions if r <= args.max_resolution})
+    header = ["build", "resolution", "pairs tested (M)", "interval mismatch",
+              "offset too large", "full test rejection", "merged", "nodes removed (M)"]
+    rows = []
+    for r in resolutions:
+        rec = found.get(r)
+        if rec:
+            tested = count(rec, "pairs tested")
+            shares = [ratio_of(count(rec, name), tested, 100)
+                      for name in ("rejected interval", "rejected offset", "rejected full test",
+                                   "merges")]
+            rows.append(["mmh city closed", heading(r), significant(counter(rec, "pairs tested"))]
+                        + [significant(s) + (" %" if s is not None else "") for s in shares]
+                        + [significant(counter(rec, "nodes removed"))])
+        elif r in paper_resolutions:
+            rows.append(["mmh city closed", heading(r)] + [MISSING] * 6)
+        for paper, printed in MMH_TABLE3.items():
+            if r in printed:
+                rows.append([f"paper: {paper}", heading(r), MISSING]
+                            + [f"{cell} %" for cell in printed[r].split()] + [MISSING, MISSING])
+    lines = preamble(
+        "Scandolo et al. 2016 (MMH), Table 3 — early rejection of subtree pairs (`mmh`)", args,
+        records, [("CLOSED CITY", "city"), ("CITYSCAPE", "city")],
+        "% of the subtree pairs tested (our counter \"pairs tested\"), 3 significant digits: "
+        "interval mismatch = \"rejected interval\", offset too large = \"rejected offset\" (the "
+        "24-bit offset bound), full test rejection = \"rejected full test\", merged = \"merges\" "
+        "(ours only; the paper's three columns and its merges add up to 100%); M = millions. The "
+        "tests run in "
+        "that order: a pair rejected by one is not tested by the next. Search distance 1000, "
+        "mode closed.")
+    lines += ["The paper's rows are at 16K², 64K², 256K² (shown up to --max-resolution); our 4K² "
+              "row appears only in a quick run. – = not built / not in the paper.", "",
+              markdown_table(header, rows, label_columns=2)]
+    return lines
+
+
+def scandolo2016_fig8(records, args):
+    lines = preamble(
+        "Scandolo et al. 2016 (MMH), Fig. 8 — size against merging time by local search "
+        "distance (`mmh`)", args, records, [("CLOSED CITY", "city")],
+        "size in MiB = 2^20 bytes; match = the encoder's \"match\" phase (the pair matching "
+        "and merging, the paper's \"subtree merging time\"), build = the whole build (depth map "
+        "included), seconds; above smallest = size over the smallest size of the sweep, in %. "
+        "3 significant digits. Mode closed.")
+    mh = mh_cells(records, "mh", "city", "closed")
+    swept = {}
+    for distance in MMH_SEARCH_DISTANCES:
+        for r, rec in mh_cells(records, "mmh", "city", "closed",
+                               {"search-distance": str(distance)}).items():
+            swept.setdefault(r, {})[distance] = rec
+    resolutions = [r for r in sorted(swept) if len(swept[r]) > 1 and r <= args.max_resolution]
+    lines += ["The paper plots CLOSED CITY and VILLA at 64K² without printed numbers: the size "
+              "falls with diminishing returns while the merging time grows, and 500–1000 is "
+              "called a reasonable trade-off (1000 is used throughout). For scale, its Table 1 "
+              "gives CLOSED CITY at 64K² as 9.33 MB (MH) and 5.80 MB (MMH, distance 1000). "
+              "– = not built.", ""]
+    if not resolutions:
+        lines += ["No resolution has more than one search distance built yet.", ""]
+    for r in resolutions:
+        cells = swept[r]
+        smallest = min(mib(rec) for rec in cells.values())
+        rows = []
+        for distance in MMH_SEARCH_DISTANCES:
+            rec = cells.get(distance)
+            if rec is None:
+                rows.append([str(distance)] + [MISSING] * 6)
+                continue
+            above = 100 * (mib(rec) / smallest - 1)
+            rows.append([str(distance), significant(mib(rec)), significant(phase(rec, "match")),
+                         significant(total_seconds(rec)),
+                         significant(above) if above > 0 else "0",
+                         significant(counter(rec, "pairs tested")),
+                         significant(counter(rec, "merges"))])
+        if r in mh:
+            rows.append(["mh (no merging)", significant(mib(mh[r])), MISSING,
+                         significant(total_seconds(mh[r])),
+                         significant(100 * (mib(mh[r]) / smallest - 1)), MISSING, MISSING])
+        if r == 64 * K:
+            rows.append(["paper: CLOSED CITY MMH, 1000", "5.80", MISSING, MISSING, MISSING,
+                         MISSING, MISSING])
+            rows.append(["paper: CLOSED CITY MH", "9.33", MISSING, MISSING, MISSING, MISSING,
+                         MISSING])
+        lines += [f"## city closed, {heading(r)}", "",
+                  markdown_table(["search distance", "size (MiB)", "match (s)", "build (s)",
+                                  "above smallest (%)", "pairs tested (M)", "merges (M)"],
+                                 rows)]
+    return lines
+
+
+def scandolo2021_table1(records, args):
+    builds = [("city", "closed", ["Citadel", "City"]), ("terrain", "closed", []),
+              ("forest", "closed", ["Trees"]), ("tangle", "closed", ["Hairball"]),
+              ("city", "open", [])]
+    schemes = [("cpvs", "DAG"), ("cpvs-fast", "DAG, Kämpe 2015"),
+               ("mmh", "MMH, search distance 1000"),
+               ("dag-mh", "DAG-MH, treelets of 4, chunks of 32")]
+    columns = mh_columns(records, ("mmh", "dag-mh"), builds, DAGMH_RESOLUTIONS, args)
+    lines = preamble(
+        "Scandolo & Eisemann 2021 (DAG-MH), Table 1 — size of DAG, MMH and DAG-MH", args,
+        records, [("Citadel", "city"), ("City", "city"), (None, "terrain"), ("Trees", "forest"),
+                  ("Hairball", "tangle")],
+        "MiB = 2^20 bytes, 3 significant digits. Paper: \"MB\", read as 2^20 bytes — its "
+        "Uncompressed row is exactly 4·R²/2^20 (64 at 4K²), as printed. Schemes: cpvs = the "
+        "voxel DAG (the paper's DAG column), mmh = Scandolo 2016 with search distance 1000, "
+        "dag-mh = this paper (treelet height 4, 32 values per chunk, skip list at level 6). Mode "
+        "closed; the city open row has no paper counterpart (open: hi = lo wherever a ray hits). "
+        "Dinos has no stand-in.")
+    lines += [CPVS_NOTE + " – = not built / not in the paper.", ""]
+    ratio_rows = []
+    for scene, mode, papers in builds:
+        rows = size_rows(records, scene, mode, schemes, columns)
+        for paper in papers:
+            for method in ("DAG", "MMH", "DAG-MH"):
+                rows.append(row(f"paper: {paper} {method}",
+                                paper_mib(DAGMH_TABLE1[paper][method], DAGMH_RESOLUTIONS),
+                                columns))
+        stands = f" (stands in for {', '.join(papers)})" if papers else " (no paper counterpart)"
+        lines += [f"## {scene} {mode}{stands}", "",
+                  markdown_table(["build"] + [heading(r) for r in columns], rows)]
+        dag_mh, mmh, cpvs = (mh_cells(records, s, scene, mode) for s in ("dag-mh", "mmh", "cpvs"))
+        for other, cells in (("mmh", mmh), ("cpvs", cpvs)):
+            ratio_rows.append(row(f"{scene} {mode}: dag-mh / {other}", {
+                r: ratio_of(mib(dag_mh[r]), mib(cells[r]), 100) for r in columns
+                if r in dag_mh and r in cells}, columns))
+        for paper in papers:
+            sizes = {m: paper_mib(DAGMH_TABLE1[paper][m], DAGMH_RESOLUTIONS)
+                     for m in ("DAG", "MMH", "DAG-MH")}
+            for other in ("MMH", "DAG"):
+                ratio_rows.append(row(f"paper: {paper} DAG-MH / {other}", {
+                    r: ratio_of(sizes["DAG-MH"][r], sizes[other].get(r), 100)
+                    for r in sizes["DAG-MH"]}, columns))
+    lines += ["## Uncompressed", "",
+              markdown_table(["build"] + [heading(r) for r in columns], [
+                  row("32-bit float map, 4·R² bytes (analytic)",
+                      {r: 4.0 * r * r / MIB for r in columns}, columns),
+                  row("paper: Uncompressed", paper_mib(DAGMH_UNCOMPRESSED, DAGMH_RESOLUTIONS),
+                      columns)]),
+              "## DAG-MH as % of MMH and of the DAG", "",
+              "The paper: DAG-MH 20% to 50% smaller than MMH, and half the memory in the best "
+              "case (Hairball).", "",
+              markdown_table(["size ratio (%)"] + [heading(r) for r in columns], ratio_rows)]
+    return lines
+
+
+def scandolo2021_table2(records, args):
+    schemes = [("cpvs", "DAG"), ("cpvs-fast", "DAG, Kämpe 2015"), ("mh", "MH"), ("mmh", "MMH"),
+               ("dag-mh", "DAG-MH")]
+    columns = mh_columns(records, ("mh", "mmh", "dag-mh"), [("city", "closed")],
+                         DAGMH_TABLE2_RESOLUTIONS, args)
+    rows = time_rows(records, "city", "closed", schemes, columns)
+    for method in ("DAG", "MH", "MMH", "DAG-MH"):
+        rows.append(row(f"paper: Citadel {method}",
+                        parse_row(DAGMH_TABLE2[method], DAGMH_TABLE2_RESOLUTIONS, float), columns))
+    dag_mh = mh_cells(records, "dag-mh", "city", "closed")
+    rows.append(row("dag-mh: depth map share of total (%)", {
+        r: ratio_of(depth_seconds(rec), total_seconds(rec), 100) for r, rec in dag_mh.items()},
+        columns))
+    rows.append(["paper: Citadel DAG-MH dual shadow map share (%)"]
+                + [f"≈ {DAGMH_DEPTH_SHARE}" for _ in columns])
+    lines = preamble(
+        "Scandolo & Eisemann 2021 (DAG-MH), Table 2 — compression time", args, records,
+        [("Citadel", "city")],
+        MH_TIME_UNITS + " Mode closed; DAG = `cpvs` (and `cpvs-fast` where built), the "
+        "paper's DAG is [KSA15]'s GPU build. The paper's \"≈ 80%\" is stated for DAG-MH "
+        "(§4.1), not per resolution.")
+    lines += [CPVS_NOTE + " – = not built / not in the paper.", "",
+              "## city closed (stands in for Citadel)", "",
+              markdown_table(["build"] + [heading(r) for r in columns], rows)]
+    return lines
+
+
+def variant_sections(records, table_resolutions, param, values, args):
+    """{resolution: {value: record}} of dag-mh on city closed with `param` swept, the other
+    parameters at their defaults; the paper's resolutions up to the maximum too."""
+    found = {}
+    for value in values:
+        for r, rec in mh_cells(records, "dag-mh", "city", "closed",
+                               {param: str(value)}).items():
+            found.setdefault(r, {})[value] = rec
+    shown = sorted({r for r, cells in found.items() if len(cells) > 1}
+                   | {r for r in table_resolutions if r <= args.max_resolution})
+    return found, shown
+
+
+def paired_table(found, shown, values, paper_table, ours_rows, title_of):
+    """One section per resolution: a row per quantity, a column pair (ours, paper) per value."""
+    lines = [] if shown else ["No resolution has more than one variant built yet.", ""]
+    header = ["row"]
+    for value in values:
+        header += [f"{value} ours", f"{value} paper"]
+    for r in shown:
+        cells = found.get(r, {})
+        printed = paper_table.get(r, {})
+        rows = []
+        for label, paper_label, of in ours_rows:
+            line = [label]
+            paper_cells = printed[paper_label].split() if paper_label in printed else None
+            for i, value in enumerate(values):
+                rec = cells.get(value)
+                line += [significant(of(rec)) if rec else MISSING,
+                         paper_cells[i] if paper_cells else MISSING]
+            rows.append(line)
+        lines += [f"## {title_of(r)}", "", markdown_table(header, rows)]
+    return lines
+
+
+def scandolo2021_table3(records, args):
+    found, shown = variant_sections(records, sorted(DAGMH_TABLE3), "treelet-height",
+                                    DAGMH_TREELET_HEIGHTS, args)
+    ours_rows = [
+        ("DAG structure size (MiB)", "DAG structure size",
+         lambda rec: component_mib(rec, "inner nodes", "treelets")),
+        ("inner nodes", "Inner nodes", lambda rec: count(rec, "inner nodes")),
+        ("nodes size (MiB)", "Nodes size", lambda rec: component_mib(rec, "inner nodes")),
+        ("treelets", "Treelets", lambda rec: count(rec, "treelets")),
+        ("treelets size (MiB)", "Treelets size", lambda rec: component_mib(rec, "treelets")),
+        ("total size (MiB, ours: all components)", None, mib),
+    ]
+    lines = preamble(
+        "Scandolo & Eisemann 2021 (DAG-MH), Table 3 — DAG structure by treelet height "
+        "(`dag-mh`)", args, records, [("Citadel", "city")],
+        "MiB = 2^20 bytes (the paper's MB read as 2^20: 21595 treelets × 12 bytes = its 0.247 "
+        "at 16K²), counts as numbers, 3 significant digits; paper cells as printed. DAG "
+        "structure size = the size components \"inner nodes\" + \"treelets\"; inner nodes and "
+        "treelets = our counters of the same names. Columns: treelet height (parameter "
+        "treelet-height; 32 values per chunk, skip list at level 6). Mode closed.")
+    lines += ["The paper's sections are 16K² and 64K² (shown up to --max-resolution). "
+              "– = not built / not in the paper.", ""]
+    lines += paired_table(found, shown, DAGMH_TREELET_HEIGHTS, DAGMH_TABLE3, ours_rows,
+                          lambda r: f"city closed (stands in for Citadel), {heading(r)}")
+    return lines
+
+
+def scandolo2021_table4(records, args):
+    found, shown = variant_sections(records, sorted(DAGMH_TABLE4), "chunk-size",
+                                    DAGMH_CHUNK_SIZES, args)
+
+    def factor_share(rec):
+        return ratio_of(count(rec, "factor values"), count(rec, "values"), 100)
+
+    ours_rows = [
+        ("DAG values size (MiB)", "DAG values size",
+         lambda rec: component_mib(rec, "chunk infos", "chunk factors")),
+        ("chunks map size (MiB)", "Chunks map size",
+         lambda rec: component_mib(rec, "chunk infos")),
+        ("chunks factors size (MiB)", "Chunks factors size",
+         lambda rec: component_mib(rec, "chunk factors")),
+        ("avg. factor qty (%)", "Avg. factor qty", factor_share),
+        ("avg. factor bits", "Avg. factor bits",
+         lambda rec: ratio_of(count(rec, "factor bits"), count(rec, "factor values"))),
+        ("values", None, lambda rec: count(rec, "values")),
+        ("total size (MiB, ours: all components)", None, mib),
+    ]
+    lines = preamble(
+        "Scandolo & Eisemann 2021 (DAG-MH), Table 4 — depth values by chunk size (`dag-mh`)",
+        args, records, [("Citadel", "city")],
+        "MiB = 2^20 bytes (the paper's MB read as 2^20), 3 significant digits; paper cells as "
+        "printed. DAG values size = the size components \"chunk infos\" + \"chunk factors\"; "
+        "chunks map = \"chunk infos\"; chunks factors = \"chunk factors\"; avg. factor qty = "
+        "counter \"factor values\" / \"values\" (the values not covered by their chunk's "
+        "representative); avg. factor bits = \"factor bits\" / \"factor values\". Columns: "
+        "values per chunk (parameter chunk-size; treelet height 4, skip list at level 6). Mode "
+        "closed.")
+    lines += ["The paper's sections are 16K² and 64K² (shown up to --max-resolution). Its 64K² "
+              "chunks factors size at 16 values per chunk is printed 0.169, but its own row "
+              "sum (2.897 − 1.728) gives 1.169. – = not built / not in the paper.", ""]
+    lines += paired_table(found, shown, DAGMH_CHUNK_SIZES, DAGMH_TABLE4, ours_rows,
+                          lambda r: f"city closed (stands in for Citadel), {heading(r)}")
+    return lines
+
+
+def mh_lookup(records, args):
+    filters = (1, 3, 5)
+    sets = ("uniform", "view")
+    schemes = ("mh", "mmh", "dag-mh", "cpvs", "sm32")
+    family = ("mh", "mmh", "dag-mh")
+    header = ["scheme", "scene", "mode", "resolution"]
+    for s in sets:
+        header += [f"{s} {k}×{k}" for k in filters] + [f"{s} {k}×{k}/1×1" for k in filters[1:]]
+    # the scenes and modes of the MH family's records; other schemes only beside them
+    builds = sorted({(scene, mode) for (name, _, scene, mode, _) in records.newest
+                     if name in family})
+    ns = {}  # (scheme, scene, mode, resolution, query set, k) → ns per query
+    rows = []
+    for scene, mode in builds:
+        resolutions = {r for s in family for r in mh_cells(records, s, scene, mode)}
+        for scheme in schemes:
+            cells = mh_cells(records, scheme, scene, mode)
+            for r in sorted(cells):
+                rec = cells[r]
+                if (scheme not in family and r not in resolutions) or not rec.get("lookup"):
+                    continue
+                line = [scheme, scene, mode, heading(r)]
+                for s in sets:
+                    for k in filters:
+                        ns[(scheme, scene, mode, r, s, k)] = lookup_ns(rec, s, k)
+                    line += [significant(ns[(scheme, scene, mode, r, s, k)]) for k in filters]
+                    line += [significant(ratio_of(ns[(scheme, scene, mode, r, s, k)],
+                                                  ns[(scheme, scene, mode, r, s, 1)]))
+                             for k in filters[1:]]
+                rows.append(line)
+    lines = preamble(
+        "MH family lookup cost by filter size (Scandolo 2016 §4, Scandolo & Eisemann 2021 §4.2)",
+        args, records, [("CLOSED CITY", "city"), ("Citadel", "city"), (None, "terrain"),
+                        ("Trees", "forest"), ("Hairball", "tangle")],
+        "ns per query on one thread (median of 5 runs), 3 significant digits, by query set "
+        "(uniform: random points; view: samples of a 1920×1080 view) and PCF filter k×k at the "
+        "finest level; k×k/1×1 = the cost of a k×k filter over a point lookup. mmh at search "
+        "distance 1000, dag-mh at its defaults; cpvs (voxel DAG) and sm32 (float32 map) where "
+        "built, for reference. Records built with --no-bench (the parameter sweeps) have no "
+        "timings and are left out.")
+    lines += [markdown_table(header, rows, label_columns=4) if rows else
+              "No records of mh, mmh or dag-mh with lookup timings.\n"]
+    # ours: scheme A over scheme B, view queries, per filter
+    compare = []
+    for a, b in (("mmh", "mh"), ("dag-mh", "mmh")):
+        for scene, mode in builds:
+            for r in sorted({key[3] for key in ns if key[:3] == (a, scene, mode)}):
+                got = [ratio_of(ns.get((a, scene, mode, r, "view", k)),
+                                ns.get((b, scene, mode, r, "view", k))) for k in filters]
+                if any(v is not None for v in got):
+                    compare.append([f"{a} / {b}", f"{scene} {mode} {heading(r)}"]
+                                   + [significant(v) for v in got])
+    compare.append(["paper: MMH / MH", "all scenes, 256K²"] + ["≈ 1"] * len(filters))
+    compare.append(["paper: DAG-MH / MMH", "Citadel 64K²", "≈ 1", "≈ 2", "≈ 2"])
+    filter_ratios = [["paper: DAG-MH", "Citadel 64K²", "0.5 ms"] + [
+        f"{DAGMH_LOOKUP_MS[k]} ms (≈ {DAGMH_LOOKUP_MS[k] / DAGMH_LOOKUP_MS[1]:g}×)"
+        for k in filters[1:]],
+        ["paper: MMH", "all scenes, 256K²", "< 1 ms", "1–2.5 ms", MISSING]]
+    lines += ["## Relative cost, view queries", "",
+              markdown_table(["ratio", "cell"] + [f"{k}×{k}" for k in filters], compare,
+                             label_columns=2),
+              "## The papers' times per full HD frame", "",
+              markdown_table(["paper", "scene"] + [f"{k}×{k}" for k in filters], filter_ratios,
+                             label_columns=2),
+              "The papers time a GPU frame of a view with hierarchical PCF (the kernel at the "
+              "level matching the pixel footprint, sharing the traversal to the samples' common "
+              "ancestor); ours is one CPU thread per query, PCF at the finest level. Compare the "
+              "ratios, not the times.", ""]
+    return lines
+
+
 TABLES = {
     "sintorn2014-fig9": sintorn2014_fig9,
     "kampe2015-table1": kampe2015_table1,
@@ -552,6 +1198,15 @@ TABLES = {
     "kampe2015-table3": kampe2015_table3,
     "kampe2015-table4": kampe2015_table4,
     "cpvs-lookup": cpvs_lookup,
+    "scandolo2016-table1": scandolo2016_table1,
+    "scandolo2016-table2": scandolo2016_table2,
+    "scandolo2016-table3": scandolo2016_table3,
+    "scandolo2016-fig8": scandolo2016_fig8,
+    "scandolo2021-table1": scandolo2021_table1,
+    "scandolo2021-table2": scandolo2021_table2,
+    "scandolo2021-table3": scandolo2021_table3,
+    "scandolo2021-table4": scandolo2021_table4,
+    "mh-lookup": mh_lookup,
 }
 
 
@@ -563,7 +1218,8 @@ def parse_resolution(text):
 
 
 def main():
-    parser = argparse.ArgumentParser(description="CPVS paper tables from shadowbench records.")
+    parser = argparse.ArgumentParser(
+        description="CPVS and MH-family paper tables from shadowbench records.")
     parser.add_argument("table", choices=sorted(TABLES))
     parser.add_argument("records", type=Path, help="folder of JSON records")
     parser.add_argument("--max-resolution", type=parse_resolution, default=64 * K,

@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Scandolo et al. 2016 (MMH), Table 2: the build time of `cpvs` (the paper's DAG), `mh` and `mmh`
+# (search distance 1000), total and without the depth map, on city (≈ CLOSED CITY) and forest
+# (≈ SHIP) closed, at 4K², 16K², 64K² up to --max-resolution, with the paper's times beside ours.
+# The cells are Table 1's; `cpvs` on forest is built up to 16K² only.
+#   scripts/reproduce/scandolo2016-table2.sh [--max-resolution 64K] [sweep options]
+# shellcheck source=scripts/reproduce/common.sh
+source "$(dirname "$0")/common.sh"
+sweep --schemes mh,mmh,cpvs --param search-distance=1000 --scenes city:full --modes closed \
+  --resolutions "$(resolutions 4K 4)"
+sweep --schemes mh,mmh --param search-distance=1000 --scenes forest:full --modes closed \
+  --resolutions "$(resolutions 4K 4)"
+sweep --schemes cpvs --scenes forest:full --modes closed \
+  --resolutions "$(max_texels=$((max_texels < 16384 ? max_texels : 16384)) && resolutions 4K 4)"
+tabulate

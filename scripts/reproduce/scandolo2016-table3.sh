@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Scandolo et al. 2016 (MMH), Table 3: how `mmh` (search distance 1000) rejects the subtree pairs
+# it tests — interval mismatch, offset too large, full test — as % of the pairs tested, on city
+# (≈ CLOSED CITY, CITYSCAPE) closed at 16K² and 64K² up to --max-resolution, with the paper's
+# percentages beside ours.
+#   scripts/reproduce/scandolo2016-table3.sh [--max-resolution 64K] [sweep options]
+# shellcheck source=scripts/reproduce/common.sh
+source "$(dirname "$0")/common.sh"
+sweep --schemes mmh --param search-distance=1000 --scenes city:full --modes closed \
+  --resolutions "$(resolutions 16K 4)"
+tabulate
