@@ -1,0 +1,80 @@
+// The serialised sparse quadtree of MH and MMH (SBE16a §5, after Lefebvre & Hoppe 2007): nodes in
+// depth-first order with siblings contiguous, and in each inner node one offset to its first
+// child, scaled by a per-level factor so that it fits a few bits.
+//
+// Words (32-bit):  full inner node  [value][child flags : 8 | offset : 24]
+//                  empty inner node [child flags : 8 | offset : 24]
+//                  leaf             [value]
+// A node's children start at (node position + offset · scale[node level]) plus padding the layout
+// inserted; the flags give each child's kind, hence its size and where child k lies. `mh` uses
+// 16 of the 24 offset bits (SBE16a's 64-bit node, 8 bits of padding); `mmh` all 24 (SBE16b §3.3).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "schemes/interface/serial.h"
+#include "schemes/shared/multires_hierarchy.h"
+
+namespace sb {
+
+struct OffsetQuadtree {
+  int levels = 0;                    // texels are at level `levels`
+  MhChild rootKind = MhChild::Leaf;  // Full (with children) or Leaf
+  std::vector<uint32_t> levelScale;  // offset scale of the inner nodes of level l, l < levels
+  std::vector<uint32_t> words;
+
+  // How values combine down a path: MH stores each node's depth key (the deepest wins); MMH
+  // stores it relative to the parent's reconstructed key (the sum along the path, SBE16b Alg. 1).
+  enum class Values { Absolute, Relative };
+
+  template <Values mode>
+  uint32_t texelKey(uint32_t i, uint32_t j) const {
+    uint64_t position = 0;
+    MhChild kind = rootKind;
+    uint32_t key = words[0];
+    for (int level = 0; kind != MhChild::Leaf; ++level) {
+      const uint32_t link = words[position + (kind == MhChild::Full)];
+      const uint32_t flags = link & 0xff;
+      const int k = mhChildIndex(i, j, levels - level - 1);
+      const MhChild child = MhChild((flags >> (2 * k)) & 3);
+      if (child == MhChild::None) break;
+      position += uint64_t(link >> 8) * levelScale[level] + siblingWords(flags, k);
+      kind = child;
+      if (child == MhChild::Empty) continue;
+      key = mode == Values::Relative ? key + words[position] : words[position];
+    }
+    return key;
+  }
+
+  // Words taken by the children before child k, from the parent's flags.
+  static uint32_t siblingWords(uint32_t flags, int k) {
+    uint32_t words = 0;
+    for (int m = 0; m < k; ++m) words += kindWords(MhChild((flags >> (2 * m)) & 3));
+    return words;
+  }
+  static uint32_t kindWords(MhChild kind) {
+    return kind == MhChild::None ? 0 : kind == MhChild::Full ? 2 : 1;
+  }
+
+  SizeBreakdown size() const;
+  void save(ByteWriter& out) const;
+  // Validates every node reachable from the root at every level it is reached at: offsets inside
+  // the file, children only above the texel level, no inner node without children. `scheme`
+  // names the scheme in errors.
+  static OffsetQuadtree load(ByteReader& in, const MapInfo& map, const char* scheme);
+};
+
+// Lays the hierarchy out in depth-first order. `values[n]` is the word stored for node n (Full
+// and Leaf nodes). `sharedChildren` (MMH) gives, per node, the first child of the sibling pack
+// its offset points to when that pack is another node's (a merged subtree; it must lie later in
+// depth-first order); empty for none. Scales grow from 1 where an offset does not fit
+// `offsetBits`; a level whose nodes point to shared packs must keep scale 1 (SBE16b §3.3), else
+// std::length_error names `scheme` and the level.
+OffsetQuadtree layoutOffsetQuadtree(const MultiresHierarchy& hierarchy,
+                                    std::span<const uint32_t> values,
+                                    std::span<const uint32_t> sharedChildren, int offsetBits,
+                                    const char* scheme);
+
+}  // namespace sb
