@@ -1,5 +1,6 @@
 #include "schemes/shared/offset_quadtree.h"
 
+#include <algorithm>
 #include <bit>
 #include <limits>
 #include <stdexcept>
@@ -80,7 +81,9 @@ OffsetQuadtree layoutOffsetQuadtree(const MultiresHierarchy& hierarchy,
   for (;;) {
     Layout layout(hierarchy, sharedChildren, scales);
     std::vector<uint64_t> needed(scales.size(), 1);
-    std::vector<bool> sharedLevel(scales.size(), false);
+    // A merged pack is reached at the levels of all its parents, and its nodes' offsets are
+    // read with each level's scale: from the highest such level down, every scale must stay 1.
+    int sharedFrom = hierarchy.levels;
     for (uint32_t n = 0; n < hierarchy.nodes.size(); ++n) {
       if (layout.position[n] == kUnplaced || layout.kind[n] == MhChild::Leaf) continue;
       const uint64_t target = layout.position[layout.childPack(n)];
@@ -88,16 +91,17 @@ OffsetQuadtree layoutOffsetQuadtree(const MultiresHierarchy& hierarchy,
         throw std::logic_error(fmt::format("{}: a merged subtree lies before its parent", scheme));
       const uint64_t distance = target - layout.position[n];
       const int l = layout.level[n];
-      if (layout.pointsToSharedPack(n)) sharedLevel[size_t(l)] = true;
+      if (layout.pointsToSharedPack(n))
+        sharedFrom = std::min({sharedFrom, l, layout.level[layout.childPack(n)] - 1});
       needed[size_t(l)] = std::max(needed[size_t(l)], (distance + maxOffset - 1) / maxOffset);
     }
     bool grown = false;
     for (size_t l = 0; l < scales.size(); ++l) {
       if (needed[l] <= scales[l]) continue;
-      if (sharedLevel[l])
+      if (int(l) >= sharedFrom)
         throw std::length_error(fmt::format(
-            "{}: offsets at level {} need a scale above 1, but the level points to merged "
-            "subtrees; the structure is too large for {}-bit offsets",
+            "{}: offsets at level {} need a scale above 1, but merged subtrees reach that "
+            "level; the structure is too large for {}-bit offsets",
             scheme, l, offsetBits));
       scales[l] = uint32_t(std::max<uint64_t>(std::bit_ceil(needed[l]), scales[l] * 2ull));
       grown = true;
@@ -121,6 +125,11 @@ OffsetQuadtree layoutOffsetQuadtree(const MultiresHierarchy& hierarchy,
     }
     return tree;
   }
+}
+
+std::vector<uint64_t> unmergedPositions(const MultiresHierarchy& hierarchy) {
+  const std::vector<uint32_t> unscaled(size_t(std::max(hierarchy.levels, 1)), 1);
+  return std::move(Layout(hierarchy, {}, unscaled).position);
 }
 
 SizeBreakdown OffsetQuadtree::size() const {

@@ -77,4 +77,8 @@ OffsetQuadtree layoutOffsetQuadtree(const MultiresHierarchy& hierarchy,
                                     std::span<const uint32_t> sharedChildren, int offsetBits,
                                     const char* scheme);
 
+// The word position of every node laid out without merged subtrees and with every scale 1: MMH's
+// conservative bound on a merged offset (SBE16b §3.3: merging only shortens distances).
+std::vector<uint64_t> unmergedPositions(const MultiresHierarchy& hierarchy);
+
 }  // namespace sb

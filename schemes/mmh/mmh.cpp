@@ -1,0 +1,101 @@
+// mmh — merged multiresolution hierarchies (Scandolo, Bauszat & Eisemann 2016b): the MH with
+// values relative to their parent, so that subtrees of equal topology and intersecting
+// intervals anywhere in the lowest levels are stored once. Lookups walk the quadtree as MH does,
+// summing values on the way down (Alg. 1).
+#include <fmt/format.h>
+
+#include "schemes/interface/depth_decoder.h"
+#include "schemes/mmh/subtree_matching.h"
+#include "schemes/shared/offset_quadtree.h"
+
+namespace sb {
+namespace {
+
+// SBE16b §3.3: the padding of the MH node becomes offset bits, since a merged subtree may lie far
+// from the parents that share it; merges stay in the lowest 12 levels, where offsets are unscaled.
+constexpr int kOffsetBits = 24;
+constexpr int kMergeLevels = 12;
+
+class MmhDecoder final : public DepthDecoder<MmhDecoder> {
+ public:
+  MmhDecoder(uint32_t resolution, OffsetQuadtree tree)
+      : resolution_(resolution), tree_(std::move(tree)) {}
+
+  uint32_t resolution() const { return resolution_; }
+  float depth(uint32_t i, uint32_t j) const {
+    return depthOfKey(tree_.texelKey<OffsetQuadtree::Values::Relative>(i, j));
+  }
+  SizeBreakdown size() const override { return tree_.size(); }
+  void save(ByteWriter& out) const override { tree_.save(out); }
+
+ private:
+  uint32_t resolution_;
+  OffsetQuadtree tree_;
+};
+
+class MmhEncoder final : public Encoder {
+ public:
+  MmhEncoder(const MapInfo& map, uint32_t searchDistance)
+      : map_(map), builder_(map), searchDistance_(searchDistance) {}
+
+  void consume(const DualDepthTile& tile, BuildContext& context) override {
+    if (!started_) context.phase("mh"), started_ = true;
+    builder_.consume(tile);
+  }
+
+  std::unique_ptr<Decoder> finish(BuildContext& context) override {
+    const MultiresHierarchy hierarchy = builder_.finish();
+    context.phase("hash");
+    SubtreeMatcher matcher(hierarchy, {searchDistance_, kMergeLevels, kOffsetBits});
+    context.phase("match");
+    const MergedHierarchy merged = matcher.match();
+    context.phase("serialise");
+    const MatchingStatistics& s = merged.statistics;
+    context.count("pairs tested", s.pairsTested);
+    context.count("rejected interval", s.rejectedInterval);
+    context.count("rejected offset", s.rejectedOffset);
+    context.count("rejected full test", s.rejectedFullTest);
+    context.count("merges", s.merges);
+    context.count("nodes removed", s.nodesRemoved);
+    return std::make_unique<MmhDecoder>(
+        map_.resolution,
+        layoutOffsetQuadtree(hierarchy, merged.values, merged.sharedChildren, kOffsetBits, "mmh"));
+  }
+
+ private:
+  MapInfo map_;
+  MhBuilder builder_;
+  uint32_t searchDistance_;
+  bool started_ = false;
+};
+
+SchemeInfo mmh() {
+  SchemeInfo info;
+  info.name = "mmh";
+  info.paper = "Scandolo, Bauszat & Eisemann 2016, merged multiresolution hierarchies";
+  info.kind = SchemeKind::Depth;
+  info.params = {{"search-distance",
+                  "entries of a collision list each subtree is tested against (SBE16b §3.2)",
+                  "1000",
+                  0,
+                  100000000,
+                  {},
+                  {"0", "10", "100", "250", "500", "1000", "2000", "5000", "10000"}}};
+  info.buildBytes = [](const MapInfo& map, const Params&) {
+    return MhBuilder::workingBytes(std::min<uint32_t>(map.resolution, 512));
+  };
+  info.makeEncoder = [](const MapInfo& map, const Params& params) -> std::unique_ptr<Encoder> {
+    return std::make_unique<MmhEncoder>(
+        map, uint32_t(findScheme("mmh").integer(params, "search-distance")));
+  };
+  info.load = [](ByteReader& in, const MapInfo& map, const Params&) -> std::unique_ptr<Decoder> {
+    return std::make_unique<MmhDecoder>(map.resolution, OffsetQuadtree::load(in, map, "mmh"));
+  };
+  return info;
+}
+
+}  // namespace
+
+SHADOWBENCH_REGISTER_SCHEME(mmh);
+
+}  // namespace sb
