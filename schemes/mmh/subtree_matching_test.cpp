@@ -1,0 +1,72 @@
+// MMH's subtree matching on maps built to repeat: every occurrence of a merged subtree still
+// answers inside its own intervals, merges shrink the structure, and the statistics add up.
+#include <algorithm>
+#include <limits>
+
+#include <catch2/catch.hpp>
+
+#include "schemes/mmh/subtree_matching.h"
+#include "schemes/shared/offset_quadtree.h"
+#include "tests/support/hierarchy_map.h"
+
+namespace sb {
+namespace {
+
+using testing::hierarchyOf;
+using testing::SyntheticMap;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// A 64² map of one motif repeated, each copy raised by a different depth, with bands wide enough
+// that the copies' intervals meet: subtrees MMH must find and merge, whose inner values move.
+SyntheticMap repeatedMotif(uint64_t seed, uint32_t motifSize = 8) {
+  SyntheticMap motif = SyntheticMap::random(motifSize, DepthMode::Closed, seed);
+  SyntheticMap map{64, DepthMode::Closed, std::vector<float>(64 * 64), std::vector<float>(64 * 64)};
+  for (uint32_t j = 0; j < 64; ++j)
+    for (uint32_t i = 0; i < 64; ++i) {
+      const size_t at = size_t(j) * 64 + i, m = size_t(j % motifSize) * motifSize + i % motifSize;
+      const float raise = float((i / motifSize + j / motifSize) % 3) * 0.001f;
+      map.lo[at] = std::min(motif.lo[m] * 0.5f + raise, 1.0f);
+      map.hi[at] = motif.hi[m] == kInf ? kInf : map.lo[at] + 0.05f;
+    }
+  return map;
+}
+
+TEST_CASE("merged subtrees answer every occurrence inside its intervals", "[mmh]") {
+  for (uint64_t seed = 1; seed <= 12; ++seed) {
+    const SyntheticMap map = repeatedMotif(seed, seed % 2 ? 8 : 16);
+    const MultiresHierarchy h = hierarchyOf(map, 16);
+    uint64_t mhWords = 0;
+    for (uint32_t distance : {0u, 1u, 1000u}) {
+      const MergedHierarchy merged = SubtreeMatcher(h, {distance, 12, 24}).match();
+      const MatchingStatistics& s = merged.statistics;
+      CHECK(s.pairsTested == s.rejectedInterval + s.rejectedOffset + s.rejectedFullTest + s.merges);
+      CHECK((s.merges > 0) == (distance > 0));
+      const OffsetQuadtree tree =
+          layoutOffsetQuadtree(h, merged.values, merged.sharedChildren, 24, "test");
+      uint64_t wrong = 0;
+      for (uint32_t j = 0; j < 64; ++j)
+        for (uint32_t i = 0; i < 64; ++i)
+          wrong += !testing::insideInterval(map, i, j,
+                                            tree.texelKey<OffsetQuadtree::Values::Relative>(i, j));
+      CHECK(wrong == 0);
+      if (distance == 0)
+        mhWords = tree.words.size();
+      else
+        CHECK(tree.words.size() < mhWords);
+    }
+  }
+}
+
+TEST_CASE("merges stay out of the top levels and within the offset bits", "[mmh]") {
+  const SyntheticMap map = repeatedMotif(9);
+  const MultiresHierarchy h = hierarchyOf(map, 64);
+  // No level may merge: nothing changes.
+  const MergedHierarchy none = SubtreeMatcher(h, {1000, 0, 24}).match();
+  CHECK(none.statistics.merges == 0);
+  // Offsets of 4 bits forbid merges across more than 15 words.
+  const MergedHierarchy near = SubtreeMatcher(h, {1000, 12, 4}).match();
+  CHECK(near.statistics.rejectedOffset > 0);
+}
+
+}  // namespace
+}  // namespace sb

@@ -1,0 +1,119 @@
+// The multiresolution hierarchy and the offset-pointer quadtree MH and MMH serialise it into,
+// against answers worked out by hand and against the maps' own intervals: the group rule on
+// single 2×2 groups, the deepest stored interval of every texel whatever the tile size, and
+// scaled offsets with their padding.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <catch2/catch.hpp>
+
+#include "schemes/shared/multires_hierarchy.h"
+#include "schemes/shared/offset_quadtree.h"
+#include "tests/support/hierarchy_map.h"
+
+namespace sb {
+namespace {
+
+using testing::hierarchyOf;
+using testing::SyntheticMap;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+SyntheticMap mapOf(uint32_t resolution, std::vector<float> lo, std::vector<float> hi) {
+  return {resolution, DepthMode::Closed, std::move(lo), std::move(hi)};
+}
+
+TEST_CASE("depth keys order as the floats do and refuse negative or NaN depths", "[mh]") {
+  const float depths[] = {0.0f, 1e-30f, 0.25f, 0.5f, 0.99999994f, 1.0f, 3e38f, kInf};
+  for (size_t a = 0; a + 1 < std::size(depths); ++a) {
+    CHECK(depthKey(depths[a]) < depthKey(depths[a + 1]));
+    CHECK(depthOfKey(depthKey(depths[a])) == depths[a]);
+  }
+  CHECK(depthKey(-0.0f) == depthKey(0.0f));
+  CHECK_THROWS_AS(depthKey(-0.5f), std::invalid_argument);
+  CHECK_THROWS_AS(depthKey(std::nanf("")), std::invalid_argument);
+}
+
+TEST_CASE("a 2×2 group moves its largest intersecting subset up", "[mh]") {
+  SECTION("three of four intersect: the parent takes their intersection, the fourth is a leaf") {
+    const MultiresHierarchy h =
+        hierarchyOf(mapOf(2, {0.1f, 0.4f, 0.45f, 0.7f}, {0.5f, 0.6f, 0.9f, 0.8f}), 2);
+    REQUIRE(h.nodes.size() == 2);
+    const MhNode& root = h.nodes[h.root()];
+    CHECK(depthOfKey(root.interval.lo) == 0.45f);
+    CHECK(depthOfKey(root.interval.hi) == 0.5f);
+    CHECK(root.child(0) == MhChild::None);
+    CHECK(root.child(3) == MhChild::Leaf);
+    CHECK(depthOfKey(h.nodes[MultiresHierarchy::childNode(root, 3)].interval.lo) == 0.7f);
+  }
+  SECTION("one shared interval: a single leaf root") {
+    const MultiresHierarchy h =
+        hierarchyOf(mapOf(2, {0.3f, 0.3f, 0.3f, 0.3f}, {kInf, kInf, kInf, kInf}), 2);
+    CHECK(h.nodes.size() == 1);
+    CHECK(!h.nodes[0].hasChildren());
+  }
+  SECTION("disjoint points: equal groups of one, the widest wins, the first on a tie") {
+    const MultiresHierarchy h =
+        hierarchyOf(mapOf(2, {0.1f, 0.2f, 0.3f, 0.4f}, {0.1f, 0.25f, 0.3f, 0.4f}), 2);
+    const MhNode& root = h.nodes[h.root()];
+    CHECK(depthOfKey(root.interval.lo) == 0.2f);
+    CHECK(root.child(1) == MhChild::None);
+    CHECK(MultiresHierarchy::childCount(root) == 3);
+  }
+}
+
+TEST_CASE("every texel's deepest stored interval lies inside its own, whatever the tiles", "[mh]") {
+  for (DepthMode mode : {DepthMode::Open, DepthMode::Closed, DepthMode::Static})
+    for (uint64_t seed : {1, 2, 3}) {
+      const SyntheticMap map = SyntheticMap::random(64, mode, seed);
+      size_t nodes = 0;
+      for (uint32_t tile : {8u, 16u, 64u}) {
+        const MultiresHierarchy h = hierarchyOf(map, tile);
+        if (nodes) CHECK(h.nodes.size() == nodes);
+        nodes = h.nodes.size();
+        uint64_t outside = 0;
+        for (uint32_t j = 0; j < 64; ++j)
+          for (uint32_t i = 0; i < 64; ++i) {
+            const KeyInterval in = h.texelInterval(i, j);
+            outside += !testing::insideInterval(map, i, j, in.lo) ||
+                       !testing::insideInterval(map, i, j, in.hi) ||
+                       !testing::insideInterval(map, i, j, in.middle());
+          }
+        CHECK(outside == 0);
+      }
+      CHECK(nodes < 64 * 64);
+    }
+}
+
+TEST_CASE("tiles out of Morton order or not square are refused", "[mh]") {
+  const SyntheticMap map = SyntheticMap::random(16, DepthMode::Closed, 4);
+  MhBuilder builder(map.info(SchemeKind::Depth));
+  DualDepthTile tile;
+  tile.resize(8, 0, 8, 8);
+  CHECK_THROWS_WITH(builder.consume(tile), Catch::Contains("Morton order"));
+  tile.resize(0, 0, 8, 4);
+  CHECK_THROWS_WITH(builder.consume(tile), Catch::Contains("square"));
+  CHECK_THROWS_AS(builder.finish(), std::logic_error);
+}
+
+TEST_CASE("offsets too long for their bits scale up, and lookups follow the padding", "[mh]") {
+  const SyntheticMap map = SyntheticMap::random(64, DepthMode::Static, 5);
+  const MultiresHierarchy h = hierarchyOf(map, 16);
+  std::vector<uint32_t> values(h.nodes.size());
+  for (size_t n = 0; n < values.size(); ++n) values[n] = h.nodes[n].interval.middle();
+  for (int bits : {3, 5, 16}) {
+    const OffsetQuadtree tree = layoutOffsetQuadtree(h, values, {}, bits, "test");
+    const bool scaled = std::any_of(tree.levelScale.begin(), tree.levelScale.end(),
+                                    [](uint32_t s) { return s > 1; });
+    CHECK(scaled == (bits < 16));
+    uint64_t wrong = 0;
+    for (uint32_t j = 0; j < 64; ++j)
+      for (uint32_t i = 0; i < 64; ++i)
+        wrong +=
+            tree.texelKey<OffsetQuadtree::Values::Absolute>(i, j) != h.texelInterval(i, j).middle();
+    CHECK(wrong == 0);
+  }
+}
+
+}  // namespace
+}  // namespace sb
