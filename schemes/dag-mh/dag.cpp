@@ -1,0 +1,365 @@
+#include "schemes/dag-mh/dag.h"
+
+#include <algorithm>
+#include <span>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "schemes/dag-mh/value_chunks.h"
+#include "schemes/interface/serial.h"
+#include "schemes/interface/splitmix.h"
+
+namespace sb::dag_mh {
+
+namespace {
+
+uint32_t existingChildren(uint32_t header) {
+  const uint32_t flags = header & 0xff;
+  return uint32_t(std::popcount((flags | flags >> 1) & 0x55u));
+}
+
+bool hasValue(MhChild type) {
+  return type == MhChild::Full || type == MhChild::Leaf;
+}
+
+// §3.1: each node content stored once. Sequences of words, concatenated in the order they were
+// first added; a sequence is found by its full content, the hash only picks the slot (open
+// addressing, each entry's hash kept so that growing never rereads contents).
+class UniqueWords {
+ public:
+  // The word offset of a stored sequence equal to `words`, else of `words`, appended.
+  uint32_t findOrAdd(std::span<const uint32_t> words) {
+    uint64_t hash = mixBits(words.size());
+    for (const uint32_t word : words) hash = mixBits(hash ^ word);
+    if ((entries_.size() + 1) * 2 > slots_.size()) grow();
+    const size_t mask = slots_.size() - 1;
+    for (size_t s = hash & mask;; s = (s + 1) & mask) {
+      if (slots_[s] == 0) {
+        if (words_.size() + words.size() > ~uint32_t(0))
+          throw std::runtime_error("dag-mh: the DAG exceeds 2^32 words");
+        const uint32_t offset = uint32_t(words_.size());
+        entries_.push_back({offset, uint32_t(words.size()), hash});
+        slots_[s] = uint32_t(entries_.size());
+        words_.insert(words_.end(), words.begin(), words.end());
+        return offset;
+      }
+      const Entry& entry = entries_[slots_[s] - 1];
+      if (entry.hash == hash && entry.length == words.size() &&
+          std::equal(words.begin(), words.end(), words_.begin() + entry.offset))
+        return entry.offset;
+    }
+  }
+
+  size_t count() const { return entries_.size(); }
+  std::vector<uint32_t> release() { return std::move(words_); }
+
+ private:
+  struct Entry {
+    uint32_t offset, length;
+    uint64_t hash;
+  };
+
+  void grow() {
+    slots_.assign(std::max<size_t>(1024, slots_.size() * 2), 0);
+    const size_t mask = slots_.size() - 1;
+    for (size_t e = 0; e < entries_.size(); ++e) {
+      size_t s = entries_[e].hash & mask;
+      while (slots_[s] != 0) s = (s + 1) & mask;
+      slots_[s] = uint32_t(e + 1);
+    }
+  }
+
+  std::vector<uint32_t> words_;
+  std::vector<Entry> entries_;
+  std::vector<uint32_t> slots_;  // entry index + 1, 0 = empty
+};
+
+void packSkipEntry(const Traversal& at, uint32_t* entry) {
+  if (at.kind == Traversal::kNone) {
+    entry[0] = 0, entry[1] = 0, entry[2] = at.lastValue;
+    return;
+  }
+  entry[0] = at.node;
+  entry[1] = at.valueStart | at.kind << 24 | uint32_t(at.level) << 26;
+  entry[2] = at.lastValue;
+}
+
+// §3.7: the skip list makes the inner nodes above skipLevel unreachable by lookups; those no
+// entry leads to are dropped (DESIGN §5: size counts what a lookup may touch), the others keep
+// their order, so children still precede parents.
+void dropUnreachable(Dag& dag) {
+  std::vector<uint32_t> starts;
+  for (uint32_t w = 0; w < dag.innerNodes.size(); w += 1 + existingChildren(dag.innerNodes[w]))
+    starts.push_back(w);
+  std::vector<uint8_t> innerUsed(dag.innerNodes.size(), 0);
+  std::vector<uint8_t> treeletUsed(dag.treelets.size() / dag.treelet.words, 0);
+  for (size_t e = 0; e < dag.skipList.size(); e += 3) {
+    const uint32_t kind = (dag.skipList[e + 1] >> 24) & 3;
+    if (kind == Traversal::kInner) innerUsed[dag.skipList[e]] = 1;
+    if (kind == Traversal::kTreelet) treeletUsed[dag.skipList[e]] = 1;
+  }
+  for (size_t s = starts.size(); s-- > 0;) {  // parents before children
+    const uint32_t w = starts[s], header = dag.innerNodes[w];
+    if (!innerUsed[w]) continue;
+    for (uint32_t k = 0, p = w + 1; k < kMhChildren; ++k) {
+      const uint32_t flag = (header >> (2 * k)) & 3;
+      if (flag == kNoChild) continue;
+      (flag == kTreeletChild ? treeletUsed : innerUsed)[dag.innerNodes[p++]] = 1;
+    }
+  }
+
+  std::vector<uint32_t> treeletIndex(treeletUsed.size()), treelets;
+  for (uint32_t t = 0; t < treeletUsed.size(); ++t) {
+    if (!treeletUsed[t]) continue;
+    treeletIndex[t] = uint32_t(treelets.size() / dag.treelet.words);
+    treelets.insert(treelets.end(), dag.treeletAt(t), dag.treeletAt(t) + dag.treelet.words);
+  }
+  std::vector<uint32_t> innerOffset(dag.innerNodes.size()), inner;
+  for (const uint32_t w : starts) {
+    if (!innerUsed[w]) continue;
+    innerOffset[w] = uint32_t(inner.size());
+    const uint32_t header = dag.innerNodes[w];
+    inner.push_back(header);
+    for (uint32_t k = 0, p = w + 1; k < kMhChildren; ++k) {
+      const uint32_t flag = (header >> (2 * k)) & 3;
+      if (flag == kNoChild) continue;
+      const uint32_t child = dag.innerNodes[p++];
+      inner.push_back(flag == kTreeletChild ? treeletIndex[child] : innerOffset[child]);
+    }
+  }
+  for (size_t e = 0; e < dag.skipList.size(); e += 3) {
+    const uint32_t kind = (dag.skipList[e + 1] >> 24) & 3;
+    if (kind == Traversal::kInner) dag.skipList[e] = innerOffset[dag.skipList[e]];
+    if (kind == Traversal::kTreelet) dag.skipList[e] = treeletIndex[dag.skipList[e]];
+  }
+  dag.innerNodes = std::move(inner);
+  dag.treelets = std::move(treelets);
+}
+
+}  // namespace
+
+DagBuild buildDag(const MultiresHierarchy& hierarchy, int treeletHeight, int skipLevel) {
+  const std::vector<MhNode>& nodes = hierarchy.nodes;
+  const uint32_t root = hierarchy.root();
+  DagBuild built;
+  Dag& dag = built.dag;
+  dag.levels = hierarchy.levels;
+  dag.treelet = TreeletShape::of(treeletHeight);
+  dag.skipLevel = std::min(skipLevel, hierarchy.levels);
+
+  // Levels each node's subtree spans and the values of its descendants, children first (they
+  // precede their parents in `nodes`).
+  std::vector<uint8_t> height(nodes.size(), 1);
+  std::vector<uint32_t> descendants(nodes.size(), 0);
+  for (uint32_t n = 0; n < nodes.size(); ++n)
+    for (int k = 0, c = 0; k < kMhChildren; ++k) {
+      const MhChild type = nodes[n].child(k);
+      if (type == MhChild::None) continue;
+      const uint32_t child = nodes[n].firstChild + c++;
+      height[n] = std::max<uint8_t>(height[n], height[child] + 1);
+      descendants[n] += hasValue(type) + descendants[child];
+    }
+  const uint64_t valueCount = 1 + uint64_t(descendants[root]);
+  if (valueCount > ValueChunks::kMaxValues)
+    throw std::runtime_error(fmt::format(
+        "dag-mh: the hierarchy holds {} values, more than the {} that the DAG's 24-bit value "
+        "counts hold (§3.4); choose a smaller resolution",
+        valueCount, ValueChunks::kMaxValues));
+
+  // §3.2: a subtree spanning at most treeletHeight levels becomes a treelet, its nodes' bits set
+  // in depth-first order of the full quadtree.
+  UniqueWords treelets, innerNodes;
+  std::vector<uint32_t> bitmap(dag.treelet.words);
+  const auto fill = [&](const auto& self, uint32_t n, bool valued, int depth,
+                        uint32_t bit) -> void {
+    if (valued) dag.treelet.setValue(bitmap.data(), bit);
+    for (int k = 0, c = 0; k < kMhChildren; ++k) {
+      const MhChild type = nodes[n].child(k);
+      if (type == MhChild::None) continue;
+      self(self, nodes[n].firstChild + c++, hasValue(type), depth + 1,
+           bit + 1 + uint32_t(k) * dag.treelet.subtreeBits[depth + 1]);
+    }
+  };
+  const auto treeletOf = [&](uint32_t n, bool valued) {
+    std::fill(bitmap.begin(), bitmap.end(), 0u);
+    fill(fill, n, valued, 0, 0);
+    bitmap[0] |= uint32_t(valued) + descendants[n];  // the count, in the low countBits
+    return treelets.findOrAdd(bitmap) / dag.treelet.words;
+  };
+
+  // §3.1, §3.4: inner nodes bottom-up; the descendants' value count (not the node's own value,
+  // which the parent's flag tells) lets a full and an empty node with equal subtrees share one.
+  std::vector<uint32_t> reference(nodes.size(), 0);
+  std::vector<uint32_t> words;
+  for (uint32_t n = 0; n < nodes.size(); ++n) {
+    if (height[n] <= treeletHeight) continue;
+    words.assign(1, descendants[n] << 8);
+    for (int k = 0, c = 0; k < kMhChildren; ++k) {
+      const MhChild type = nodes[n].child(k);
+      if (type == MhChild::None) continue;
+      const uint32_t child = nodes[n].firstChild + c++;
+      uint32_t flag = kTreeletChild;
+      if (height[child] <= treeletHeight) {
+        words.push_back(treeletOf(child, hasValue(type)));
+      } else {
+        flag = type == MhChild::Full ? kFullInner : kEmptyInner;
+        words.push_back(reference[child]);
+      }
+      words[0] |= flag << (2 * k);
+    }
+    reference[n] = innerNodes.findOrAdd(words);
+  }
+
+  const bool rootIsTreelet = height[root] <= treeletHeight;
+  Traversal start;
+  start.kind = rootIsTreelet ? Traversal::kTreelet : Traversal::kInner;
+  start.node = rootIsTreelet ? treeletOf(root, true) : reference[root];
+  start.valueStart = rootIsTreelet ? 0 : 1;  // the root's value is index 0
+  dag.innerNodes = innerNodes.release();
+  dag.treelets = treelets.release();
+
+  // §3.7: the traversal state at every node of the skip level, as the lookups would reach it.
+  const uint32_t side = 1u << dag.skipLevel;
+  const int shift = dag.levels - dag.skipLevel;
+  dag.skipList.resize(size_t(3) * side * side);
+  for (uint32_t cj = 0; cj < side; ++cj)
+    for (uint32_t ci = 0; ci < side; ++ci) {
+      Traversal at = start;
+      dag.descend(at, ci << shift, cj << shift, dag.skipLevel);
+      packSkipEntry(at, &dag.skipList[3 * (size_t(cj) * side + ci)]);
+    }
+  if (dag.skipLevel > 0) dropUnreachable(dag);
+
+  // The value list: depth-first pre-order of the nodes with a value.
+  built.values.reserve(valueCount);
+  std::vector<std::pair<uint32_t, bool>> stack{{root, true}};
+  while (!stack.empty()) {
+    const auto [n, valued] = stack.back();
+    stack.pop_back();
+    if (valued) built.values.push_back(nodes[n].interval);
+    for (int k = kMhChildren - 1, c = MultiresHierarchy::childCount(nodes[n]); k >= 0; --k) {
+      const MhChild type = nodes[n].child(k);
+      if (type != MhChild::None) stack.emplace_back(nodes[n].firstChild + --c, hasValue(type));
+    }
+  }
+  return built;
+}
+
+uint64_t Dag::innerNodeCount() const {
+  uint64_t count = 0;
+  for (size_t w = 0; w < innerNodes.size(); w += 1 + existingChildren(innerNodes[w])) ++count;
+  return count;
+}
+
+void Dag::save(ByteWriter& out) const {
+  out.putArray<uint32_t>(innerNodes);
+  out.putArray<uint32_t>(treelets);
+  out.putArray<uint32_t>(skipList);
+}
+
+Dag Dag::load(ByteReader& in, int levels, int treeletHeight, int skipLevel, uint32_t valueCount) {
+  Dag dag;
+  dag.levels = levels;
+  dag.treelet = TreeletShape::of(treeletHeight);
+  dag.skipLevel = skipLevel;
+  dag.innerNodes = in.getArray<uint32_t>("dag-mh inner nodes");
+  dag.treelets = in.getArray<uint32_t>("dag-mh treelets");
+  dag.skipList = in.getArray<uint32_t>("dag-mh skip list", uint64_t(3) << (2 * skipLevel));
+  const TreeletShape& shape = dag.treelet;
+  if (dag.treelets.size() % shape.words != 0)
+    throw FormatError(fmt::format("dag-mh: {} treelet words are not whole {}-word treelets",
+                                  dag.treelets.size(), shape.words));
+  const uint64_t treeletCount = dag.treelets.size() / shape.words;
+
+  // Each treelet's count is the number of its set bits, and no bit lies past its nodes.
+  const uint32_t usedBits = (shape.countBits + shape.bits) % 32;
+  for (uint64_t t = 0; t < treeletCount; ++t) {
+    const uint32_t* words = dag.treeletAt(uint32_t(t));
+    uint32_t set = 0;
+    for (uint32_t w = 0; w < shape.words; ++w) set += uint32_t(std::popcount(words[w]));
+    set -= uint32_t(std::popcount(shape.count(words)));
+    if (set != shape.count(words))
+      throw FormatError(fmt::format("dag-mh: treelet {} counts {} values but has {} set bits", t,
+                                    shape.count(words), set));
+    if (usedBits != 0 && words[shape.words - 1] >> usedBits != 0)
+      throw FormatError(fmt::format("dag-mh: treelet {} has bits past its nodes", t));
+  }
+
+  // Inner nodes: each parses inside the array, has children, points to treelets that exist and
+  // to inner nodes that start strictly before it (so there are no cycles), and counts exactly
+  // its children's values — then a traversal's value indices stay inside its subtree's range.
+  // A node spanning more levels than the map could be reached with no texel bit left for a child
+  // index; heights are checked against every level a node is entered at (skip list below).
+  std::vector<uint8_t> heightAt(dag.innerNodes.size(), 0);  // 0: no node starts there
+  for (size_t w = 0; w < dag.innerNodes.size();) {
+    const uint32_t header = dag.innerNodes[w];
+    if ((header & 0xff) == 0)
+      throw FormatError(fmt::format("dag-mh: inner node at word {} has no children", w));
+    const size_t end = w + 1 + existingChildren(header);
+    if (end > dag.innerNodes.size())
+      throw FormatError(fmt::format("dag-mh: inner node at word {} overruns the inner nodes", w));
+    uint64_t values = 0;
+    int height = 0;
+    for (uint32_t k = 0, p = uint32_t(w) + 1; k < kMhChildren; ++k) {
+      const uint32_t flag = (header >> (2 * k)) & 3;
+      if (flag == kNoChild) continue;
+      const uint32_t child = dag.innerNodes[p++];
+      if (flag == kTreeletChild) {
+        if (child >= treeletCount)
+          throw FormatError(fmt::format("dag-mh: inner node at word {} points to treelet {} of {}",
+                                        w, child, treeletCount));
+        values += shape.count(dag.treeletAt(child));
+        height = std::max(height, 2);
+      } else {
+        if (child >= w || heightAt[child] == 0)
+          throw FormatError(fmt::format(
+              "dag-mh: inner node at word {} points to word {}, not an earlier inner node", w,
+              child));
+        values += (flag == kFullInner) + dag.innerCount(child);
+        height = std::max(height, heightAt[child] + 1);
+      }
+    }
+    if (values != header >> 8)
+      throw FormatError(
+          fmt::format("dag-mh: inner node at word {} counts {} values, its children hold {}", w,
+                      header >> 8, values));
+    if (height > levels + 1)
+      throw FormatError(
+          fmt::format("dag-mh: inner node at word {} spans more levels than the map", w));
+    heightAt[w] = uint8_t(height);
+    w = end;
+  }
+
+  // Skip list entries: the kind, level and node agree, the node is entered at a level its
+  // subtree fits below, and the values it leads to lie in the value list.
+  for (size_t e = 0; e < dag.skipList.size(); e += 3) {
+    const uint32_t* entry = &dag.skipList[e];
+    const uint32_t kind = (entry[1] >> 24) & 3, level = entry[1] >> 26;
+    const uint32_t start = entry[1] & 0xffffff;
+    const auto fail = [&](const char* what) {
+      throw FormatError(fmt::format("dag-mh: skip list entry {}: {}", e / 3, what));
+    };
+    if (entry[2] >= valueCount) fail("last value index out of range");
+    if (kind == Traversal::kNone) {
+      if (entry[0] != 0 || entry[1] != 0) fail("an entry without a node has node fields");
+    } else if (kind == Traversal::kInner) {
+      if (level != uint32_t(skipLevel)) fail("an inner node not at the skip level");
+      if (entry[0] >= dag.innerNodes.size() || heightAt[entry[0]] == 0)
+        fail("no inner node at its word offset");
+      if (level + heightAt[entry[0]] > uint32_t(levels) + 1) fail("its node spans past the texels");
+      if (uint64_t(start) + dag.innerCount(entry[0]) > valueCount)
+        fail("its values run past the value list");
+    } else if (kind == Traversal::kTreelet) {
+      if (level > uint32_t(skipLevel)) fail("a treelet below the skip level");
+      if (entry[0] >= treeletCount) fail("treelet index out of range");
+      if (uint64_t(start) + shape.count(dag.treeletAt(entry[0])) > valueCount)
+        fail("its values run past the value list");
+    } else {
+      fail("invalid kind");
+    }
+  }
+  return dag;
+}
+
+}  // namespace sb::dag_mh

@@ -1,0 +1,182 @@
+// dag-mh — DAG encoding for compressed shadow maps (Scandolo & Eisemann 2021). The
+// multiresolution hierarchy of the dual depth map (schemes/shared/multires_hierarchy.h) is split
+// into its topology, stored as a DAG of inner nodes and treelets (dag.h, treelet.h), and its
+// values, listed depth-first and compressed in chunks (value_chunks.h). A lookup walks the DAG
+// from the skip list to the index of the texel's value and reads the value from its chunk.
+#include <algorithm>
+#include <bit>
+
+#include <fmt/format.h>
+
+#include "schemes/dag-mh/dag.h"
+#include "schemes/dag-mh/value_chunks.h"
+#include "schemes/interface/depth_decoder.h"
+#include "schemes/interface/serial.h"
+
+namespace sb {
+namespace {
+
+using dag_mh::Dag;
+using dag_mh::ValueChunks;
+
+struct DagMhConfig {
+  int treeletHeight;
+  uint32_t chunkSize;
+  int skipLevel;  // clamped to the map's levels
+};
+
+DagMhConfig dagMhConfig(const MapInfo& map, const Params& params) {
+  const SchemeInfo& scheme = findScheme("dag-mh");
+  const Params resolved = scheme.resolve(params);
+  const int levels = std::countr_zero(map.resolution);
+  return {int(scheme.integer(resolved, "treelet-height")),
+          uint32_t(scheme.integer(resolved, "chunk-size")),
+          std::min(int(scheme.integer(resolved, "skip-level")), levels)};
+}
+
+class DagMhDecoder final : public DepthDecoder<DagMhDecoder> {
+ public:
+  DagMhDecoder(uint32_t resolution, Dag dag, ValueChunks values)
+      : resolution_(resolution), dag_(std::move(dag)), values_(std::move(values)) {}
+
+  uint32_t resolution() const { return resolution_; }
+  float depth(uint32_t i, uint32_t j) const { return values_.value(dag_.valueIndex(i, j)); }
+
+  SizeBreakdown size() const override {
+    return {{"inner nodes", dag_.innerNodes.size() * sizeof(uint32_t)},
+            {"treelets", dag_.treelets.size() * sizeof(uint32_t)},
+            {"chunk infos", values_.infoSize()},
+            {"chunk factors", values_.factorSize()},
+            {"skip list", dag_.skipList.size() * sizeof(uint32_t)}};
+  }
+
+  // Payload: u32 treelet height, u32 chunk size, u32 skip level (clamped), u32 value count, then
+  // the arrays of Dag::save and ValueChunks::save.
+  void save(ByteWriter& out) const override {
+    out.put<uint32_t>(uint32_t(dag_.treelet.height));
+    out.put<uint32_t>(values_.chunkSize());
+    out.put<uint32_t>(uint32_t(dag_.skipLevel));
+    out.put<uint32_t>(values_.valueCount());
+    dag_.save(out);
+    values_.save(out);
+  }
+
+ private:
+  uint32_t resolution_;
+  Dag dag_;
+  ValueChunks values_;
+};
+
+class DagMhEncoder final : public Encoder {
+ public:
+  DagMhEncoder(const MapInfo& map, DagMhConfig config)
+      : map_(map), config_(config), builder_(map) {}
+
+  void consume(const DualDepthTile& tile, BuildContext& context) override {
+    if (!started_) {
+      context.phase("mh");
+      started_ = true;
+    }
+    builder_.consume(tile);
+  }
+
+  std::unique_ptr<Decoder> finish(BuildContext& context) override {
+    dag_mh::DagBuild built;
+    {
+      const MultiresHierarchy hierarchy = builder_.finish();
+      context.phase("dag");
+      built = dag_mh::buildDag(hierarchy, config_.treeletHeight, config_.skipLevel);
+    }
+    context.phase("values");
+    dag_mh::ValueChunkStats stats;
+    ValueChunks values(built.values, config_.chunkSize, &stats);
+    context.count("inner nodes", built.dag.innerNodeCount());
+    context.count("treelets", built.dag.treeletCount());
+    context.count("values", built.values.size());
+    context.count("values covered by representative", stats.covered);
+    context.count("factor values", stats.factors);
+    context.count("factor bits", stats.factorBits);
+    context.count("chunks", values.infoSize() / values.infoBytes());
+    return std::make_unique<DagMhDecoder>(map_.resolution, std::move(built.dag), std::move(values));
+  }
+
+ private:
+  MapInfo map_;
+  DagMhConfig config_;
+  MhBuilder builder_;
+  bool started_ = false;
+};
+
+SchemeInfo dagMh() {
+  SchemeInfo info;
+  info.name = "dag-mh";
+  info.paper = "Scandolo & Eisemann 2021, DAG encoding for compressed shadow maps";
+  info.kind = SchemeKind::Depth;
+  info.params = {
+      {"treelet-height",
+       "levels a treelet spans: subtrees this low are bitmaps instead of inner nodes (§3.2; "
+       "§4.3 finds 4 best)",
+       "4",
+       1,
+       5,
+       {},
+       {"2", "3", "4", "5"}},
+      {"chunk-size",
+       "values per chunk of the value list: one representative and factor size each (§3.3; "
+       "Table 4 finds 32 best)",
+       "32",
+       0,
+       0,
+       {"16", "32", "64", "128"},
+       {"16", "32", "64", "128"}},
+      {"skip-level",
+       "level whose nodes a dense skip list holds, where lookups start (§3.7); 0 = the root "
+       "alone; capped at log2 R",
+       "6",
+       0,
+       10,
+       {},
+       {"0", "6"}},
+  };
+  // The hierarchy (16 bytes a node) is built whole, then per node a height, a value count and a
+  // DAG reference (9 bytes), and the value intervals (8 bytes each). Hierarchies keep a fraction
+  // of the texels as nodes (a tenth on the full city), and the format caps values at 2^24.
+  info.buildBytes = [](const MapInfo& map, const Params&) {
+    const uint64_t nodes = std::min<uint64_t>(map.texelCount() / 2, uint64_t(1) << 26);
+    return MhBuilder::workingBytes(std::min<uint32_t>(map.resolution, 512)) + nodes * 32;
+  };
+  info.makeEncoder = [](const MapInfo& map, const Params& params) -> std::unique_ptr<Encoder> {
+    return std::make_unique<DagMhEncoder>(map, dagMhConfig(map, params));
+  };
+  info.load = [](ByteReader& in, const MapInfo& map,
+                 const Params& params) -> std::unique_ptr<Decoder> {
+    if (!validResolution(map.resolution))
+      throw FormatError(
+          fmt::format("dag-mh: resolution {} is not a valid map size", map.resolution));
+    const DagMhConfig config = dagMhConfig(map, params);
+    const auto expect = [&](const char* what, uint32_t wanted) {
+      const uint32_t stored = in.get<uint32_t>(what);
+      if (stored != wanted)
+        throw FormatError(
+            fmt::format("{}: {} stored, the parameters give {}", what, stored, wanted));
+    };
+    expect("dag-mh treelet height", uint32_t(config.treeletHeight));
+    expect("dag-mh chunk size", config.chunkSize);
+    expect("dag-mh skip level", uint32_t(config.skipLevel));
+    const uint32_t valueCount = in.get<uint32_t>("dag-mh value count");
+    if (valueCount == 0 || valueCount > ValueChunks::kMaxValues)
+      throw FormatError(fmt::format("dag-mh value count: {} is not in [1, {}]", valueCount,
+                                    ValueChunks::kMaxValues));
+    Dag dag = Dag::load(in, std::countr_zero(map.resolution), config.treeletHeight,
+                        config.skipLevel, valueCount);
+    ValueChunks values = ValueChunks::load(in, config.chunkSize, valueCount);
+    return std::make_unique<DagMhDecoder>(map.resolution, std::move(dag), std::move(values));
+  };
+  return info;
+}
+
+}  // namespace
+
+SHADOWBENCH_REGISTER_SCHEME(dagMh);
+
+}  // namespace sb

@@ -1,0 +1,106 @@
+// The chunked factor value list of DAG-MH (Scandolo & Eisemann 2021 §3.3, §3.4, §3.6, Alg. 2):
+// the depth values in depth-first order, split into chunks; per chunk a representative value
+// with a coverage bitmask, and for the values it does not cover, b-bit factors i_v giving
+// c_l + c_f · i_v (b = 8, 16, 24), or the raw float32 (b = 32).
+#pragma once
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <vector>
+
+#include "schemes/shared/multires_hierarchy.h"
+
+namespace sb {
+class ByteReader;
+class ByteWriter;
+}  // namespace sb
+
+namespace sb::dag_mh {
+
+// §3.6: the one reconstruction of a factor, shared by the encoder's check and every lookup, so
+// a factor the encoder accepted gives the same float bit for bit (float(i) is exact: i < 2^24).
+inline float factorValue(float cl, float cf, uint32_t factor) {
+  return std::fma(cf, float(factor), cl);
+}
+
+// What the encoder reports (BuildContext counters).
+struct ValueChunkStats {
+  uint64_t covered = 0;     // values the representative covers
+  uint64_t factors = 0;     // values with a factor (or a raw float)
+  uint64_t factorBits = 0;  // Σ over factors of their bit count, 32 for raw floats
+};
+
+// The value list. Chunk c holds values [c·S, min((c + 1)·S, n)); its info is `infoBytes()`
+// bytes at c·infoBytes() in `infos`, little-endian:
+//   [0, 4)   representative, float32
+//   [4, 8)   c_l, float32
+//   [8, 12)  c_f, float32
+//   [12, 16) factor reference: bits 0–29 the byte offset of the chunk's factors in `factors`,
+//            bits 30–31 the factor byte count minus one (1, 2, 3 bytes: b = 8, 16, 24; 4: raw)
+//   [16, 16 + S/8) coverage bitmask: bit v (byte v/8, bit v%8) set = value v of the chunk is the
+//            representative; value v ≥ the chunk's count has bit 0.
+// The factors of the uncovered values follow each other in `factors`, each factor in b/8 bytes
+// little-endian; chunk c's start where chunk c − 1's end.
+class ValueChunks {
+ public:
+  static constexpr uint32_t kMaxValues = (1u << 24) - 1;  // §3.4: 24-bit value counts
+
+  ValueChunks() = default;
+  // §3.3: chunks of `chunkSize` (16, 32, 64 or 128) values, each value inside its interval.
+  ValueChunks(std::span<const KeyInterval> intervals, uint32_t chunkSize, ValueChunkStats* stats);
+
+  uint32_t chunkSize() const { return chunkSize_; }
+  uint32_t valueCount() const { return valueCount_; }
+  uint32_t infoBytes() const { return 16 + chunkSize_ / 8; }
+  uint64_t infoSize() const { return infos_.size(); }
+  uint64_t factorSize() const { return factors_.size(); }
+
+  // Alg. 2: value `index` (< valueCount()).
+  float value(uint32_t index) const {
+    const uint8_t* info = infos_.data() + size_t(index >> chunkShift_) * infoBytes();
+    const uint32_t v = index & (chunkSize_ - 1);
+    const uint8_t* mask = info + 16;
+    if ((mask[v / 8] >> (v % 8)) & 1) return read<float>(info);
+    uint32_t coveredBefore = 0;
+    for (uint32_t w = 0; w < v / 64; ++w)
+      coveredBefore += std::popcount(read<uint64_t>(mask + 8 * w));
+    coveredBefore += std::popcount(readBits(mask + 8 * (v / 64), v % 64));
+    const uint32_t reference = read<uint32_t>(info + 12);
+    const uint32_t bytes = (reference >> 30) + 1;
+    const uint8_t* at =
+        factors_.data() + (reference & kOffsetMask) + size_t(v - coveredBefore) * bytes;
+    uint32_t factor = 0;
+    std::memcpy(&factor, at, bytes);  // little-endian machines only, like the whole file format
+    if (bytes == 4) return std::bit_cast<float>(factor);
+    return factorValue(read<float>(info + 4), read<float>(info + 8), factor);
+  }
+
+  void save(ByteWriter& out) const;
+  // Reads what save() wrote for `valueCount` values in chunks of `chunkSize`, checking every
+  // chunk's bitmask, factor reference and stored floats; throws FormatError naming "dag-mh".
+  static ValueChunks load(ByteReader& in, uint32_t chunkSize, uint32_t valueCount);
+
+ private:
+  static constexpr uint32_t kOffsetMask = (1u << 30) - 1;
+
+  template <class T>
+  static T read(const uint8_t* at) {
+    T value;
+    std::memcpy(&value, at, sizeof(T));
+    return value;
+  }
+  // The low `count` (< 64) bits of the bitmask word at `at`, reading only the bytes they need.
+  static uint64_t readBits(const uint8_t* at, uint32_t count) {
+    uint64_t bits = 0;
+    std::memcpy(&bits, at, (count + 7) / 8);
+    return bits & ((uint64_t(1) << count) - 1);
+  }
+
+  uint32_t chunkSize_ = 0, chunkShift_ = 0, valueCount_ = 0;
+  std::vector<uint8_t> infos_, factors_;
+};
+
+}  // namespace sb::dag_mh
