@@ -77,25 +77,24 @@ class UniqueWords {
 
 void packSkipEntry(const Traversal& at, uint32_t* entry) {
   if (at.kind == Traversal::kNone) {
-    entry[0] = 0, entry[1] = 0, entry[2] = at.lastValue;
+    entry[0] = 0, entry[1] = 0, entry[2] = at.lastValue, entry[3] = 0;
     return;
   }
-  entry[0] = at.node;
-  entry[1] = at.valueStart | at.kind << 24 | uint32_t(at.level) << 26;
-  entry[2] = at.lastValue;
+  entry[0] = at.node, entry[1] = at.valueStart, entry[2] = at.lastValue;
+  entry[3] = at.kind | uint32_t(at.level) << 2;
 }
 
 // §3.7: the skip list makes the inner nodes above skipLevel unreachable by lookups; those no
 // entry leads to are dropped (DESIGN §5: size counts what a lookup may touch), the others keep
-// their order, so children still precede parents.
-void dropUnreachable(Dag& dag) {
+// their order, so children still precede parents. Returns which of the old word offsets were kept.
+std::vector<uint8_t> dropUnreachable(Dag& dag) {
   std::vector<uint32_t> starts;
   for (uint32_t w = 0; w < dag.innerNodes.size(); w += 1 + existingChildren(dag.innerNodes[w]))
     starts.push_back(w);
   std::vector<uint8_t> innerUsed(dag.innerNodes.size(), 0);
   std::vector<uint8_t> treeletUsed(dag.treelets.size() / dag.treelet.words, 0);
-  for (size_t e = 0; e < dag.skipList.size(); e += 3) {
-    const uint32_t kind = (dag.skipList[e + 1] >> 24) & 3;
+  for (size_t e = 0; e < dag.skipList.size(); e += Dag::kSkipEntryWords) {
+    const uint32_t kind = dag.skipList[e + 3] & 3;
     if (kind == Traversal::kInner) innerUsed[dag.skipList[e]] = 1;
     if (kind == Traversal::kTreelet) treeletUsed[dag.skipList[e]] = 1;
   }
@@ -128,13 +127,14 @@ void dropUnreachable(Dag& dag) {
       inner.push_back(flag == kTreeletChild ? treeletIndex[child] : innerOffset[child]);
     }
   }
-  for (size_t e = 0; e < dag.skipList.size(); e += 3) {
-    const uint32_t kind = (dag.skipList[e + 1] >> 24) & 3;
+  for (size_t e = 0; e < dag.skipList.size(); e += Dag::kSkipEntryWords) {
+    const uint32_t kind = dag.skipList[e + 3] & 3;
     if (kind == Traversal::kInner) dag.skipList[e] = innerOffset[dag.skipList[e]];
     if (kind == Traversal::kTreelet) dag.skipList[e] = treeletIndex[dag.skipList[e]];
   }
   dag.innerNodes = std::move(inner);
   dag.treelets = std::move(treelets);
+  return innerUsed;
 }
 
 }  // namespace
@@ -151,7 +151,7 @@ DagBuild buildDag(const MultiresHierarchy& hierarchy, int treeletHeight, int ski
   // Levels each node's subtree spans and the values of its descendants, children first (they
   // precede their parents in `nodes`).
   std::vector<uint8_t> height(nodes.size(), 1);
-  std::vector<uint32_t> descendants(nodes.size(), 0);
+  std::vector<uint64_t> descendants(nodes.size(), 0);
   for (uint32_t n = 0; n < nodes.size(); ++n)
     for (int k = 0, c = 0; k < kMhChildren; ++k) {
       const MhChild type = nodes[n].child(k);
@@ -160,12 +160,11 @@ DagBuild buildDag(const MultiresHierarchy& hierarchy, int treeletHeight, int ski
       height[n] = std::max<uint8_t>(height[n], height[child] + 1);
       descendants[n] += hasValue(type) + descendants[child];
     }
-  const uint64_t valueCount = 1 + uint64_t(descendants[root]);
+  const uint64_t valueCount = 1 + descendants[root];
   if (valueCount > ValueChunks::kMaxValues)
-    throw std::runtime_error(fmt::format(
-        "dag-mh: the hierarchy holds {} values, more than the {} that the DAG's 24-bit value "
-        "counts hold (§3.4); choose a smaller resolution",
-        valueCount, ValueChunks::kMaxValues));
+    throw std::runtime_error(
+        fmt::format("dag-mh: the hierarchy holds {} values, more than 32-bit value indices address",
+                    valueCount));
 
   // §3.2: a subtree spanning at most treeletHeight levels becomes a treelet, its nodes' bits set
   // in depth-first order of the full quadtree.
@@ -184,24 +183,27 @@ DagBuild buildDag(const MultiresHierarchy& hierarchy, int treeletHeight, int ski
   const auto treeletOf = [&](uint32_t n, bool valued) {
     std::fill(bitmap.begin(), bitmap.end(), 0u);
     fill(fill, n, valued, 0, 0);
-    bitmap[0] |= uint32_t(valued) + descendants[n];  // the count, in the low countBits
+    bitmap[0] |= uint32_t(valued + descendants[n]);  // the count, in the low countBits
     return treelets.findOrAdd(bitmap) / dag.treelet.words;
   };
 
   // §3.1, §3.4: inner nodes bottom-up; the descendants' value count (not the node's own value,
   // which the parent's flag tells) lets a full and an empty node with equal subtrees share one.
-  std::vector<uint32_t> reference(nodes.size(), 0);
-  std::vector<uint32_t> words;
+  // A count over 24 bits is saturated and the node remembered: it is only an error if the node
+  // stays reachable below the skip level (the skip list keeps 32-bit indices, §3.7).
+  std::vector<uint32_t> reference(nodes.size(), 0);  // inner node word offset or treelet index
+  std::vector<uint32_t> words, overflowing;
   for (uint32_t n = 0; n < nodes.size(); ++n) {
     if (height[n] <= treeletHeight) continue;
-    words.assign(1, descendants[n] << 8);
+    words.assign(1, uint32_t(std::min<uint64_t>(descendants[n], kMaxInnerCount)) << 8);
     for (int k = 0, c = 0; k < kMhChildren; ++k) {
       const MhChild type = nodes[n].child(k);
       if (type == MhChild::None) continue;
       const uint32_t child = nodes[n].firstChild + c++;
       uint32_t flag = kTreeletChild;
       if (height[child] <= treeletHeight) {
-        words.push_back(treeletOf(child, hasValue(type)));
+        reference[child] = treeletOf(child, hasValue(type));
+        words.push_back(reference[child]);
       } else {
         flag = type == MhChild::Full ? kFullInner : kEmptyInner;
         words.push_back(reference[child]);
@@ -209,6 +211,7 @@ DagBuild buildDag(const MultiresHierarchy& hierarchy, int treeletHeight, int ski
       words[0] |= flag << (2 * k);
     }
     reference[n] = innerNodes.findOrAdd(words);
+    if (descendants[n] > kMaxInnerCount) overflowing.push_back(reference[n]);
   }
 
   const bool rootIsTreelet = height[root] <= treeletHeight;
@@ -219,17 +222,46 @@ DagBuild buildDag(const MultiresHierarchy& hierarchy, int treeletHeight, int ski
   dag.innerNodes = innerNodes.release();
   dag.treelets = treelets.release();
 
-  // §3.7: the traversal state at every node of the skip level, as the lookups would reach it.
+  // §3.7: the traversal state at every node of the skip level, as Dag::descend would reach it,
+  // but walked on the hierarchy with its exact counts: the nodes above may hold more values
+  // than 24 bits count.
   const uint32_t side = 1u << dag.skipLevel;
   const int shift = dag.levels - dag.skipLevel;
-  dag.skipList.resize(size_t(3) * side * side);
+  dag.skipList.resize(Dag::kSkipEntryWords * side * side);
   for (uint32_t cj = 0; cj < side; ++cj)
     for (uint32_t ci = 0; ci < side; ++ci) {
       Traversal at = start;
-      dag.descend(at, ci << shift, cj << shift, dag.skipLevel);
-      packSkipEntry(at, &dag.skipList[3 * (size_t(cj) * side + ci)]);
+      for (uint32_t n = root; at.kind == Traversal::kInner && at.level < dag.skipLevel;) {
+        const int c = mhChildIndex(ci << shift, cj << shift, dag.levels - at.level - 1);
+        const MhChild type = nodes[n].child(c);
+        if (type == MhChild::None) {
+          at.kind = Traversal::kNone;
+          break;
+        }
+        uint32_t child = nodes[n].firstChild;
+        for (int k = 0; k < c; ++k) {
+          const MhChild before = nodes[n].child(k);
+          if (before == MhChild::None) continue;
+          at.valueStart += uint32_t(hasValue(before) + descendants[child]);
+          ++child;
+        }
+        n = child, at.node = reference[child], ++at.level;
+        if (height[child] <= treeletHeight) {
+          at.kind = Traversal::kTreelet;
+        } else if (type == MhChild::Full) {
+          at.lastValue = at.valueStart++;
+        }
+      }
+      packSkipEntry(at, &dag.skipList[Dag::kSkipEntryWords * (size_t(cj) * side + ci)]);
     }
-  if (dag.skipLevel > 0) dropUnreachable(dag);
+  const std::vector<uint8_t> kept =
+      dag.skipLevel > 0 ? dropUnreachable(dag) : std::vector<uint8_t>(dag.innerNodes.size(), 1);
+  for (const uint32_t node : overflowing)
+    if (kept[node])
+      throw std::runtime_error(fmt::format(
+          "dag-mh: an inner node below skip level {} holds {} values or more, beyond its 24-bit "
+          "count (§3.4); raise skip-level",
+          dag.skipLevel, kMaxInnerCount));
 
   // The value list: depth-first pre-order of the nodes with a value.
   built.values.reserve(valueCount);
@@ -265,7 +297,8 @@ Dag Dag::load(ByteReader& in, int levels, int treeletHeight, int skipLevel, uint
   dag.skipLevel = skipLevel;
   dag.innerNodes = in.getArray<uint32_t>("dag-mh inner nodes");
   dag.treelets = in.getArray<uint32_t>("dag-mh treelets");
-  dag.skipList = in.getArray<uint32_t>("dag-mh skip list", uint64_t(3) << (2 * skipLevel));
+  dag.skipList =
+      in.getArray<uint32_t>("dag-mh skip list", uint64_t(kSkipEntryWords) << (2 * skipLevel));
   const TreeletShape& shape = dag.treelet;
   if (dag.treelets.size() % shape.words != 0)
     throw FormatError(fmt::format("dag-mh: {} treelet words are not whole {}-word treelets",
@@ -333,16 +366,17 @@ Dag Dag::load(ByteReader& in, int levels, int treeletHeight, int skipLevel, uint
 
   // Skip list entries: the kind, level and node agree, the node is entered at a level its
   // subtree fits below, and the values it leads to lie in the value list.
-  for (size_t e = 0; e < dag.skipList.size(); e += 3) {
+  for (size_t e = 0; e < dag.skipList.size(); e += kSkipEntryWords) {
     const uint32_t* entry = &dag.skipList[e];
-    const uint32_t kind = (entry[1] >> 24) & 3, level = entry[1] >> 26;
-    const uint32_t start = entry[1] & 0xffffff;
+    const uint32_t kind = entry[3] & 3, level = entry[3] >> 2, start = entry[1];
     const auto fail = [&](const char* what) {
-      throw FormatError(fmt::format("dag-mh: skip list entry {}: {}", e / 3, what));
+      throw FormatError(fmt::format("dag-mh: skip list entry {}: {}", e / kSkipEntryWords, what));
     };
     if (entry[2] >= valueCount) fail("last value index out of range");
+    if (level > uint32_t(skipLevel)) fail("a level below the skip level");
     if (kind == Traversal::kNone) {
-      if (entry[0] != 0 || entry[1] != 0) fail("an entry without a node has node fields");
+      if (entry[0] != 0 || entry[1] != 0 || entry[3] != 0)
+        fail("an entry without a node has node fields");
     } else if (kind == Traversal::kInner) {
       if (level != uint32_t(skipLevel)) fail("an inner node not at the skip level");
       if (entry[0] >= dag.innerNodes.size() || heightAt[entry[0]] == 0)
@@ -351,7 +385,6 @@ Dag Dag::load(ByteReader& in, int levels, int treeletHeight, int skipLevel, uint
       if (uint64_t(start) + dag.innerCount(entry[0]) > valueCount)
         fail("its values run past the value list");
     } else if (kind == Traversal::kTreelet) {
-      if (level > uint32_t(skipLevel)) fail("a treelet below the skip level");
       if (entry[0] >= treeletCount) fail("treelet index out of range");
       if (uint64_t(start) + shape.count(dag.treeletAt(entry[0])) > valueCount)
         fail("its values run past the value list");

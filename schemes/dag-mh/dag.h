@@ -18,6 +18,9 @@ class ByteWriter;
 
 namespace sb::dag_mh {
 
+// §3.4: an inner node counts its descendants' values in 24 bits.
+constexpr uint64_t kMaxInnerCount = (uint64_t(1) << 24) - 1;
+
 // §3.4: the 2-bit flags of an inner node's children.
 enum ChildFlag : uint32_t { kNoChild = 0, kFullInner = 1, kEmptyInner = 2, kTreeletChild = 3 };
 
@@ -43,8 +46,10 @@ struct Dag {
   std::vector<uint32_t> innerNodes;
   std::vector<uint32_t> treelets;  // treelet.words words each
   // §3.7: the traversal state at the 4^skipLevel nodes of level skipLevel, row-major over their
-  // (i, j), three words each: the node; valueStart in bits 0–23, kind in bits 24–25, level in
-  // bits 26–30; lastValue in bits 0–23. skipLevel 0 is the root's entry alone.
+  // (i, j), four words each: the node, valueStart, lastValue, and kind (bits 0–1) with level
+  // (bits 2–6). skipLevel 0 is the root's entry alone. Value indices are 32-bit here: only the
+  // inner nodes below the skip level need their counts to fit 24 bits.
+  static constexpr size_t kSkipEntryWords = 4;
   std::vector<uint32_t> skipList;
 
   uint64_t innerNodeCount() const;
@@ -60,9 +65,8 @@ struct Dag {
   Traversal skipEntry(uint32_t i, uint32_t j) const {
     const int shift = levels - skipLevel;
     const uint32_t* entry =
-        skipList.data() + 3 * ((size_t(j >> shift) << skipLevel) + (i >> shift));
-    return {(entry[1] >> 24) & 3, entry[0], int(entry[1] >> 26), entry[1] & 0xffffff,
-            entry[2] & 0xffffff};
+        skipList.data() + kSkipEntryWords * ((size_t(j >> shift) << skipLevel) + (i >> shift));
+    return {entry[3] & 3, entry[0], int(entry[3] >> 2), entry[1], entry[2]};
   }
 
   // §3.5: from `at` towards texel (i, j) through inner nodes until a node of `stopLevel`, a
@@ -119,8 +123,9 @@ struct DagBuild {
 };
 
 // §3.1, §3.2: the hierarchy's topology as a DAG, every inner node and treelet stored once;
-// `skipLevel` is clamped to the map's levels. Throws std::runtime_error naming dag-mh when the
-// hierarchy holds more values than 24-bit counts hold.
+// `skipLevel` is clamped to the map's levels. Throws std::runtime_error naming dag-mh when an
+// inner node that lookups reach (one below the skip level) holds more values than its 24-bit
+// count, or the map more than 32-bit value indices, hold.
 DagBuild buildDag(const MultiresHierarchy& hierarchy, int treeletHeight, int skipLevel);
 
 }  // namespace sb::dag_mh

@@ -10,10 +10,11 @@
 #include "schemes/dag-mh/value_chunks.h"
 #include "schemes/interface/serial.h"
 #include "schemes/interface/splitmix.h"
-#include "tests/support/synthetic_map.h"
+#include "tests/support/hierarchy_map.h"
 
 using namespace sb;
 using namespace sb::dag_mh;
+using sb::testing::hierarchyOf;
 using sb::testing::SyntheticMap;
 
 namespace {
@@ -98,12 +99,6 @@ void checkChunks(std::span<const KeyInterval> intervals, uint32_t chunkSize) {
   in.expectEnd();
   for (uint32_t v = 0; v < intervals.size(); ++v)
     CHECK(std::bit_cast<uint32_t>(loaded.value(v)) == std::bit_cast<uint32_t>(chunks.value(v)));
-}
-
-MultiresHierarchy hierarchyOf(const SyntheticMap& map, uint32_t tileSize) {
-  MhBuilder builder(map.info(SchemeKind::Depth));
-  map.stream(tileSize, [&](const DualDepthTile& tile) { builder.consume(tile); });
-  return builder.finish();
 }
 
 // Save and load through the scheme's own arrays, the way the scheme's payload holds them.
@@ -205,10 +200,25 @@ TEST_CASE("dag-mh: value chunks use the fewest factor bits that hold every inter
   checkChunks(sky, 16);
 }
 
-TEST_CASE("dag-mh: a value list longer than 24-bit counts hold is refused, naming the scheme",
+TEST_CASE("dag-mh: a map of 2^24 distinct values fills the root's 24-bit count exactly",
           "[dag-mh]") {
-  const std::vector<KeyInterval> tooMany(size_t(1) << 24);
-  CHECK_THROWS_WITH(ValueChunks(tooMany, 32, nullptr), Catch::Contains("dag-mh"));
+  // 4096² texels, each its own point interval: the root holds one value and counts the other
+  // 2^24 − 1, the most its 24-bit count holds. Regression: 24-bit skip-list fields and a 2^24
+  // cap on the value list refused the 64K² city, which holds more.
+  const uint32_t r = 4096;
+  SyntheticMap map{r, DepthMode::Open, std::vector<float>(size_t(r) * r), {}};
+  for (size_t t = 0; t < map.lo.size(); ++t) map.lo[t] = float(t + 1) * 0x1p-26f;
+  map.hi = map.lo;
+  const MultiresHierarchy hierarchy = hierarchyOf(map, 512);
+  for (int skipLevel : {0, 1}) {
+    const DagBuild built = buildDag(hierarchy, 4, skipLevel);
+    CHECK(built.values.size() == kMaxInnerCount + 1);
+    uint64_t wrong = 0;
+    for (uint32_t j = 0; j < r; j += 17)
+      for (uint32_t i = 0; i < r; i += 13)
+        wrong += built.values[built.dag.valueIndex(i, j)].lo != hierarchy.texelInterval(i, j).lo;
+    CHECK(wrong == 0);
+  }
 }
 
 TEST_CASE("dag-mh: DAG lookups reach the deepest node with a value on every texel's path",
@@ -270,8 +280,8 @@ TEST_CASE("dag-mh: the skip list replaces the nodes above it", "[dag-mh]") {
   const MultiresHierarchy hierarchy = hierarchyOf(map, 32);
   const DagBuild full = buildDag(hierarchy, 3, 0);
   const DagBuild skipped = buildDag(hierarchy, 3, 3);
-  CHECK(full.dag.skipList.size() == 3);
-  CHECK(skipped.dag.skipList.size() == 3 * 64);
+  CHECK(full.dag.skipList.size() == Dag::kSkipEntryWords);
+  CHECK(skipped.dag.skipList.size() == Dag::kSkipEntryWords * 64);
   CHECK(skipped.dag.innerNodeCount() < full.dag.innerNodeCount());
   CHECK(skipped.values.size() == full.values.size());
 }
@@ -317,21 +327,18 @@ TEST_CASE("dag-mh: the loader rejects every inconsistent pointer, count and skip
   rejected([&](Dag& d) { d.treelets[0] += 1; }, "treelet 0");
   rejected([&](Dag& d) { d.treelets.push_back(1); }, "treelet");
   // Skip entries: kind, level, node and value ranges.
-  for (size_t e = 0; e < dag.skipList.size(); e += 3) {
-    const uint32_t kind = (dag.skipList[e + 1] >> 24) & 3;
+  for (size_t e = 0; e < dag.skipList.size(); e += Dag::kSkipEntryWords) {
+    const uint32_t kind = dag.skipList[e + 3] & 3;
     rejected([&](Dag& d) { d.skipList[e + 2] = values; }, "last value");
-    rejected([&](Dag& d) { d.skipList[e + 1] |= 3u << 24; }, "skip list");
+    rejected([&](Dag& d) { d.skipList[e + 3] |= 3u; }, "skip list");
+    rejected([&](Dag& d) { d.skipList[e + 3] += 1u << 10; }, "below the skip level");
     if (kind == Traversal::kInner) {
       rejected([&](Dag& d) { d.skipList[e] += 1; }, "no inner node");
-      rejected([&](Dag& d) { d.skipList[e + 1] -= 1u << 26; }, "skip level");
+      rejected([&](Dag& d) { d.skipList[e + 3] -= 1u << 2; }, "skip level");
       rejected([&](Dag& d) { d.skipList[e + 1] += values; }, "value");
     }
-    if (kind == Traversal::kTreelet) {
+    if (kind == Traversal::kTreelet)
       rejected([&](Dag& d) { d.skipList[e] = uint32_t(d.treeletCount()); }, "treelet index");
-      rejected(
-          [&](Dag& d) { d.skipList[e + 1] = (d.skipList[e + 1] & ((1u << 26) - 1)) | 3u << 26; },
-          "below the skip level");
-    }
   }
 
   // Value chunks: factor offsets, bitmask bits past the last value, stored floats.
@@ -442,7 +449,7 @@ TEST_CASE("dag-mh: the encoder names its phases and counts its parts", "[dag-mh]
   REQUIRE(size.size() == 5);
   CHECK(size[0].first == "inner nodes");
   CHECK(size[2].second == counters.at("chunks") * (16 + 32 / 8));
-  CHECK(size[4].second == 16 * 12);  // skip level 2: 4^2 entries of 12 bytes
+  CHECK(size[4].second == 16 * 16);  // skip level 2: 4^2 entries of 16 bytes
 }
 
 TEST_CASE("dag-mh: a map of one depth is the root alone, a one-node treelet", "[dag-mh]") {

@@ -74,9 +74,8 @@ ValueChunks::ValueChunks(std::span<const KeyInterval> intervals, uint32_t chunkS
     throw std::invalid_argument(
         fmt::format("dag-mh: chunk size {} is not 16, 32, 64 or 128", chunkSize));
   if (intervals.size() > kMaxValues)
-    throw std::runtime_error(
-        fmt::format("dag-mh: {} values exceed the {} that 24-bit value counts hold (§3.4)",
-                    intervals.size(), kMaxValues));
+    throw std::runtime_error(fmt::format(
+        "dag-mh: {} values exceed what 32-bit value indices address", intervals.size()));
   const size_t chunks = (intervals.size() + chunkSize - 1) / chunkSize;
   infos_.assign(chunks * infoBytes(), 0);
   std::vector<uint32_t> factors;
@@ -134,7 +133,9 @@ ValueChunks::ValueChunks(std::span<const KeyInterval> intervals, uint32_t chunkS
     }
     std::memcpy(info + 4, &cl, 4);
     std::memcpy(info + 8, &cf, 4);
-    // Offsets stay below 2^26: fewer than 2^24 values of at most 4 bytes.
+    if (factors_.size() + factors.size() * bytes > kMaxFactorBytes)
+      throw std::runtime_error(fmt::format(
+          "dag-mh: the factors exceed the {} bytes 30-bit offsets address", kMaxFactorBytes));
     const uint32_t reference = uint32_t(factors_.size()) | (bytes - 1) << 30;
     std::memcpy(info + 12, &reference, 4);
     for (const uint32_t factor : factors)

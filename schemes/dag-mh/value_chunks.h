@@ -46,7 +46,8 @@ struct ValueChunkStats {
 // little-endian; chunk c's start where chunk c − 1's end.
 class ValueChunks {
  public:
-  static constexpr uint32_t kMaxValues = (1u << 24) - 1;  // §3.4: 24-bit value counts
+  static constexpr uint32_t kMaxValues = ~uint32_t(0);              // 32-bit value indices
+  static constexpr uint64_t kMaxFactorBytes = (uint64_t(1) << 30);  // 30-bit factor offsets
 
   ValueChunks() = default;
   // §3.3: chunks of `chunkSize` (16, 32, 64 or 128) values, each value inside its interval.

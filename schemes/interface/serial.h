@@ -64,7 +64,8 @@ class ByteReader {
     if (expected != ~uint64_t(0) && count != expected) mismatch(what, count, expected);
     if (count > remaining() / sizeof(T)) truncated(what);
     std::vector<T> values(count);
-    std::memcpy(values.data(), take(count * sizeof(T), what), count * sizeof(T));
+    const uint8_t* bytes = take(count * sizeof(T), what);
+    if (count != 0) std::memcpy(values.data(), bytes, count * sizeof(T));  // data() may be null
     return values;
   }
   size_t remaining() const { return bytes_.size() - offset_; }
