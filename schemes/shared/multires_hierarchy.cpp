@@ -101,8 +101,7 @@ uint64_t MhBuilder::workingBytes(uint32_t tileSize) {
   return uint64_t(tileSize) * tileSize * sizeof(Pending) * 5 / 4;
 }
 
-MhBuilder::Pending MhBuilder::reduce(const Pending (&children)[kMhChildren]) {
-  Pending parent = chooseGroup(children);
+MhBuilder::Pending MhBuilder::store(Pending parent, const Pending (&children)[kMhChildren]) {
   if (parent.childFlags) {
     parent.firstChild = uint32_t(hierarchy_.nodes.size());
     for (int k = 0; k < kMhChildren; ++k)
@@ -162,7 +161,7 @@ void MhBuilder::consume(const DualDepthTile& tile) {
         if (!parent.childFlags) continue;
         Pending group[kMhChildren];
         children(x, y, group);
-        parent = reduce(group);
+        parent = store(parent, group);
       }
     std::swap(level_, next_);
   }
@@ -176,7 +175,7 @@ void MhBuilder::consume(const DualDepthTile& tile) {
                                         waiting_[waiting_.size() - 2].second,
                                         waiting_.back().second, root};
     waiting_.resize(waiting_.size() - 3);
-    root = reduce(group);
+    root = store(chooseGroup(group), group);
     --level;
   }
   waiting_.emplace_back(level, root);

@@ -94,7 +94,8 @@ class MhBuilder {
   };
 
  private:
-  Pending reduce(const Pending (&children)[kMhChildren]);
+  // Stores the children the chosen group leaves out as the parent's sibling pack.
+  Pending store(Pending parent, const Pending (&children)[kMhChildren]);
 
   MultiresHierarchy hierarchy_;
   uint64_t consumedTiles_ = 0;
