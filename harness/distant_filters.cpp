@@ -16,6 +16,7 @@
 #include "harness/lookup_timing.h"
 #include "harness/record.h"
 #include "harness/table.h"
+#include "schemes/interface/depth_decoder.h"
 #include "schemes/interface/lightspace.h"
 #include "schemes/shared/voxel_dag.h"
 
@@ -43,6 +44,26 @@ class VoaaLookup final : public Decoder {
  private:
   const Decoder& dag_;
   uint32_t depth_;
+};
+
+// Hierarchical PCF (Scandolo et al. 2016a): the structure's own map `coarser` levels up.
+class CoarseLevelLookup final : public Decoder {
+ public:
+  CoarseLevelLookup(const Decoder& full, const HierarchicalLookup& levels, int coarser)
+      : full_(full), levels_(levels), coarser_(coarser) {}
+
+  void lookup(std::span<const Query> queries, int k, std::span<float> visibility) const override {
+    levels_.lookupCoarse(queries, coarser_, k, visibility);
+  }
+  SizeBreakdown size() const override { return full_.size(); }
+  void save(ByteWriter&) const override {
+    throw std::logic_error("a coarse-level lookup is a view of a structure, not one to save");
+  }
+
+ private:
+  const Decoder& full_;
+  const HierarchicalLookup& levels_;
+  int coarser_;
 };
 
 // Every query's k×k answer, in parallel chunks.
@@ -193,6 +214,15 @@ DistantFiltersReport evaluateDistantFilters(const SchemeInfo& scheme, const Buil
           *built.decoder, k, mraaReferenceK(level),
           level == 0 ? report.fullBytes : report.mraaBytes[level - 1]);
   }
+  // HPCF: the same footprints as MRAA, read from the full structure's own coarser levels.
+  if (const auto* levels = dynamic_cast<const HierarchicalLookup*>(full.decoder.get()))
+    for (uint32_t level = 1; level <= mraa.size(); ++level)
+      for (int k : {1, 3})
+        addRow("HPCF",
+               fmt::format("L = {} ({}), {}×{}", level,
+                           resolutionHeading(full.map.resolution >> level), k, k),
+               CoarseLevelLookup(*full.decoder, *levels, int(level)), k, mraaReferenceK(level),
+               report.fullBytes);
   return report;
 }
 
@@ -205,7 +235,7 @@ struct CommandOptions {
 
 Table reportTable(const DistantFiltersReport& report) {
   Table table;
-  table.title = "Distant filters against exact PCF (Sintorn 2014 §5)";
+  table.title = "Distant filters against exact PCF (Sintorn 2014 §5, Scandolo 2016a)";
   table.unit_note =
       "absolute error in visibility (0–1) per query; ns/query single thread, median; MiB = 2²⁰ "
       "bytes of the structure the filter reads";
@@ -264,9 +294,14 @@ void runDistantFilters(const CommandOptions& o) {
         "query's voxel, against an area kernel centred on the query texel at its depth. s = 32 "
         "is compared with 17×17, the largest exact kernel, which covers 17² of the node's 32² "
         "texels: its error also holds that difference in footprint.\n\n";
-  markdown +=
-      "MRAA level L also quantises depth to R/2^L slices, so its answers are at the coarse "
-      "voxel's centre.\n";
+  if (scheme.kind == SchemeKind::Voxel)
+    markdown +=
+        "MRAA level L also quantises depth to R/2^L slices, so its answers are at the coarse "
+        "voxel's centre.\n";
+  else
+    markdown +=
+        "HPCF (hierarchical PCF, Scandolo et al. 2016a) reads level L of the structure's own "
+        "hierarchy, a complete R/2^L map: the footprint of MRAA level L with no extra memory.\n";
 
   const fs::path base =
       fs::path(o.out) / fmt::format("{}_{}_{}_{}_{}", fileNamePart(scene.name), o.mode, scheme.name,
@@ -298,7 +333,8 @@ void addDistantFiltersCommand(CLI::App& app) {
   auto o = std::make_shared<CommandOptions>();
   CLI::App* sub = app.add_subcommand(
       "distant-filters",
-      "Sintorn 2014 §5: VOAA and MRAA distant-shadow filters, error against exact PCF");
+      "Sintorn 2014 §5 VOAA and MRAA, and hierarchical PCF of the MH schemes: distant-shadow "
+      "filters, error against exact PCF");
   sub->add_option("--scene,-s", o->scene, "generator, scene .json or model file")
       ->capture_default_str();
   sub->add_option("--mode,-m", o->mode, "dual depth mode: open, closed or static")

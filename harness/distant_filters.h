@@ -49,7 +49,7 @@ inline int mraaReferenceK(uint32_t level) {
 }
 
 struct DistantFilterRow {
-  std::string filter;  // "VOAA" or "MRAA"
+  std::string filter;  // "VOAA", "MRAA" or "HPCF"
   std::string answer;  // what answers: "s = 8 (depth 9)", "L = 2 (1K²), 3×3"
   int referenceK = 1;  // the exact full-resolution k×k PCF it is compared with
   FilterError error;
@@ -63,7 +63,7 @@ struct DistantFiltersOptions {
 };
 
 struct DistantFiltersReport {
-  std::vector<DistantFilterRow> rows;  // VOAA by side, then MRAA by level, 1×1 and 3×3
+  std::vector<DistantFilterRow> rows;  // VOAA by side, MRAA by level, HPCF by level; 1×1, 3×3
   uint64_t queries = 0;
   uint64_t fullBytes = 0;
   std::vector<uint64_t> mraaBytes;  // levels 1, 2, …
@@ -72,7 +72,8 @@ struct DistantFiltersReport {
 };
 
 // Answers `set` with every filter and with the exact PCF each is compared with. VOAA rows need a
-// CPVS-format `full`; `mraa` holds levels 1, 2, … (buildMraaLevels), level 0 being `full`.
+// CPVS-format `full`; `mraa` holds levels 1, 2, … (buildMraaLevels), level 0 being `full`. HPCF
+// rows, at the same levels, come from a `full` whose decoder is a HierarchicalLookup.
 DistantFiltersReport evaluateDistantFilters(const SchemeInfo& scheme, const BuildOutcome& full,
                                             std::span<const BuildOutcome> mraa, const QuerySet& set,
                                             const DistantFiltersOptions& options = {});

@@ -13,14 +13,19 @@ namespace {
 // SBE16a §5: 16-bit offsets, the other 8 bits of the 64-bit node are padding.
 constexpr int kOffsetBits = 16;
 
-class MhDecoder final : public DepthDecoder<MhDecoder> {
+class MhDecoder final : public HierarchicalDepthDecoder<MhDecoder> {
  public:
   MhDecoder(uint32_t resolution, OffsetQuadtree tree)
       : resolution_(resolution), tree_(std::move(tree)) {}
 
   uint32_t resolution() const { return resolution_; }
   float depth(uint32_t i, uint32_t j) const {
-    return depthOfKey(tree_.texelKey<OffsetQuadtree::Values::Absolute>(i, j));
+    return depthOfKey(tree_.texelKey<OffsetQuadtree::Values::Absolute>(i, j, tree_.levels));
+  }
+  // SBE16a: every level of the hierarchy is a complete shadow map, read by stopping the walk.
+  float coarseDepth(uint32_t i, uint32_t j, int coarser) const {
+    return depthOfKey(tree_.texelKey<OffsetQuadtree::Values::Absolute>(i << coarser, j << coarser,
+                                                                       tree_.levels - coarser));
   }
   SizeBreakdown size() const override { return tree_.size(); }
   void save(ByteWriter& out) const override { tree_.save(out); }

@@ -16,14 +16,19 @@ namespace {
 constexpr int kOffsetBits = 24;
 constexpr int kMergeLevels = 12;
 
-class MmhDecoder final : public DepthDecoder<MmhDecoder> {
+class MmhDecoder final : public HierarchicalDepthDecoder<MmhDecoder> {
  public:
   MmhDecoder(uint32_t resolution, OffsetQuadtree tree)
       : resolution_(resolution), tree_(std::move(tree)) {}
 
   uint32_t resolution() const { return resolution_; }
   float depth(uint32_t i, uint32_t j) const {
-    return depthOfKey(tree_.texelKey<OffsetQuadtree::Values::Relative>(i, j));
+    return depthOfKey(tree_.texelKey<OffsetQuadtree::Values::Relative>(i, j, tree_.levels));
+  }
+  // SBE16a: every level of the hierarchy is a complete shadow map, read by stopping the walk.
+  float coarseDepth(uint32_t i, uint32_t j, int coarser) const {
+    return depthOfKey(tree_.texelKey<OffsetQuadtree::Values::Relative>(i << coarser, j << coarser,
+                                                                       tree_.levels - coarser));
   }
   SizeBreakdown size() const override { return tree_.size(); }
   void save(ByteWriter& out) const override { tree_.save(out); }

@@ -46,8 +46,8 @@ TEST_CASE("merged subtrees answer every occurrence inside its intervals", "[mmh]
       uint64_t wrong = 0;
       for (uint32_t j = 0; j < 64; ++j)
         for (uint32_t i = 0; i < 64; ++i)
-          wrong += !testing::insideInterval(map, i, j,
-                                            tree.texelKey<OffsetQuadtree::Values::Relative>(i, j));
+          wrong += !testing::insideInterval(
+              map, i, j, tree.texelKey<OffsetQuadtree::Values::Relative>(i, j, tree.levels));
       CHECK(wrong == 0);
       if (distance == 0)
         mhWords = tree.words.size();

@@ -8,6 +8,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "schemes/interface/depth_decoder.h"
+#include "schemes/interface/splitmix.h"
 #include "schemes/shared/multires_hierarchy.h"
 #include "schemes/shared/offset_quadtree.h"
 #include "tests/support/hierarchy_map.h"
@@ -109,10 +111,71 @@ TEST_CASE("offsets too long for their bits scale up, and lookups follow the padd
     uint64_t wrong = 0;
     for (uint32_t j = 0; j < 64; ++j)
       for (uint32_t i = 0; i < 64; ++i)
-        wrong +=
-            tree.texelKey<OffsetQuadtree::Values::Absolute>(i, j) != h.texelInterval(i, j).middle();
+        wrong += tree.texelKey<OffsetQuadtree::Values::Absolute>(i, j, tree.levels) !=
+                 h.texelInterval(i, j).middle();
     CHECK(wrong == 0);
   }
+}
+
+TEST_CASE("hierarchical PCF reads a blocky map's coarse levels exactly", "[mh]") {
+  // 8×8 blocks of one depth each: the hierarchy holds each block's depth at level 3, so the maps
+  // 1, 2 and 3 levels up answer as the blocks do, and 3×3 at level 3 averages 3×3 blocks.
+  const uint32_t r = 64, block = 8, blocks = r / block;
+  SyntheticMap map{r, DepthMode::Open, std::vector<float>(r * r), {}};
+  uint64_t state = 12;
+  std::vector<float> depth(blocks * blocks);
+  for (float& d : depth) d = 0.1f + 0.8f * unitFloat(nextRandom(state));
+  for (uint32_t j = 0; j < r; ++j)
+    for (uint32_t i = 0; i < r; ++i) map.lo[j * r + i] = depth[(j / block) * blocks + i / block];
+  map.hi = map.lo;
+  const auto blockDepth = [&](int64_t bi, int64_t bj) {
+    const bool outside = bi < 0 || bj < 0 || bi >= int64_t(blocks) || bj >= int64_t(blocks);
+    return outside ? 1.0f : depth[size_t(bj) * blocks + size_t(bi)];
+  };
+  int hierarchical = 0;
+  for (const SchemeInfo& scheme : schemes()) {
+    const auto decoder = map.build(scheme, {}, 16);
+    const auto* levels = dynamic_cast<const HierarchicalLookup*>(decoder.get());
+    if (!levels) continue;
+    ++hierarchical;
+    INFO(scheme.name);
+    CHECK(levels->levels() == 6);
+    for (int coarser = 0; coarser <= 3; ++coarser) {
+      const uint32_t side = r >> coarser;
+      std::vector<Query> queries;
+      std::vector<float> expected;
+      for (uint32_t j = 0; j < side; ++j)
+        for (uint32_t i = 0; i < side; ++i) {
+          const float d = blockDepth((i << coarser) / block, (j << coarser) / block);
+          const float x = (float(i) + 0.5f) / float(side), y = (float(j) + 0.5f) / float(side);
+          queries.push_back({x, y, d});
+          expected.push_back(1.0f);
+          queries.push_back({x, y, std::nextafter(d, 2.0f)});
+          expected.push_back(0.0f);
+        }
+      std::vector<float> got(queries.size());
+      levels->lookupCoarse(queries, coarser, 1, got);
+      CHECK(got == expected);
+    }
+    std::vector<Query> queries;
+    std::vector<float> expected;
+    for (uint32_t bj = 0; bj < blocks; ++bj)
+      for (uint32_t bi = 0; bi < blocks; ++bi) {
+        const float z = blockDepth(bi, bj);
+        queries.push_back(
+            {(float(bi) + 0.5f) / float(blocks), (float(bj) + 0.5f) / float(blocks), z});
+        int lit = 0;
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int di = -1; di <= 1; ++di)
+            lit += z <= blockDepth(int64_t(bi) + di, int64_t(bj) + dj);
+        expected.push_back(float(lit) / 9.0f);
+      }
+    std::vector<float> got(queries.size());
+    levels->lookupCoarse(queries, 3, 3, got);
+    CHECK(got == expected);
+    CHECK_THROWS_AS(levels->lookupCoarse(queries, 7, 1, got), std::invalid_argument);
+  }
+  CHECK(hierarchical >= 2);  // mh and mmh
 }
 
 }  // namespace

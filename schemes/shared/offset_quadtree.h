@@ -29,12 +29,14 @@ struct OffsetQuadtree {
   // stores it relative to the parent's reconstructed key (the sum along the path, SBE16b Alg. 1).
   enum class Values { Absolute, Relative };
 
+  // The key texel (i, j) reads, walking no deeper than `deepest` (the map `levels − deepest`
+  // levels up: hierarchical PCF).
   template <Values mode>
-  uint32_t texelKey(uint32_t i, uint32_t j) const {
+  uint32_t texelKey(uint32_t i, uint32_t j, int deepest) const {
     uint64_t position = 0;
     MhChild kind = rootKind;
     uint32_t key = words[0];
-    for (int level = 0; kind != MhChild::Leaf; ++level) {
+    for (int level = 0; kind != MhChild::Leaf && level < deepest; ++level) {
       const uint32_t link = words[position + (kind == MhChild::Full)];
       const uint32_t flags = link & 0xff;
       const int k = mhChildIndex(i, j, levels - level - 1);
