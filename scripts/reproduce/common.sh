@@ -55,6 +55,14 @@ resolutions() {
   (IFS=,; echo "${list[*]}")
 }
 
+# `resolutions` up to CAP at most: capped CAP FIRST [STEP] (a table's budget for costly cells).
+capped() {
+  local cap max_texels=$max_texels
+  cap=$(texels "$1")
+  ((cap > max_texels)) || max_texels=$cap
+  resolutions "${@:2}"
+}
+
 out=results/reproduce
 # One records folder for every table: a cell two tables need is built once.
 records=$out/records

@@ -667,18 +667,17 @@ MH_FAMILY_PARAMS = {
                   "transitions": "aligned"},
 }
 # The scripts build these (scheme, scene, mode) only up to a resolution (their budget, below).
-CAPPED = {("cpvs", "forest", "closed"): 16 * K, ("cpvs", "tangle", "closed"): 16 * K,
-          **{(scheme, scene, mode): 8 * K for scheme in ("mh", "mmh", "dag-mh", "cpvs")
-             for scene, mode in (("city", "open"), ("forest", "closed"))
-             if (scheme, scene, mode) != ("cpvs", "forest", "closed")}}
-CAP_NOTE = ("Caps, for the scripts' time and memory (those cells print –): `cpvs` (the papers' "
-            "DAG) on forest and tangle closed up to 16K², as its voxel DAG grows fast there "
-            "(forest open at 64K²: 18 minutes, 5.8 GiB); the MH family on city open and forest "
-            "closed up to 8K² (and cpvs on city open with them). There the ground is a point "
-            "interval (open mode; forest's ground quad is an open mesh) whose depth changes "
-            "from texel to texel, so the hierarchy keeps about a node per texel: `mh` is 70 MiB "
-            "at 4K², ×4 per doubling from 1K² (more than the 64 MiB float map), and `mmh` peaks "
-            "at 1.3 GiB at 4K², so about 20 GiB at 16K² and 18 GiB of `mh` alone at 64K². "
+CAPPED = {("cpvs", "tangle", "closed"): 16 * K,
+          **{(scheme, "city", "open"): 8 * K for scheme in ("mh", "mmh", "dag-mh", "cpvs")}}
+CAP_NOTE = ("Forest is in static mode (first and second surface, as the 2021 paper builds its "
+            "dual maps): its trees and ground are open meshes, so in closed mode its intervals "
+            "are points (mh 72 MiB at 4K², more than the float map). Caps, for the scripts' time "
+            "and memory (those cells print –): `cpvs` (the papers' DAG) on tangle closed up to "
+            "16K², as its voxel DAG grows fast there (forest open at 64K²: 18 minutes, 5.8 GiB); "
+            "the MH family and cpvs on city open up to 8K². There the ground is a point "
+            "interval whose depth changes from texel to texel, so the hierarchy keeps about a "
+            "node per texel: `mh` is 70 MiB at 4K², ×4 per doubling from 1K² (more than the "
+            "64 MiB float map), and `mmh` peaks at 1.3 GiB at 4K², so about 20 GiB at 16K². "
             "`cpvs-fast` (Kämpe 2015, the [KSA15] of the 2021 paper and of the 2016 paper's "
             "Table 2) is shown where the CPVS tables built it; these scripts do not build it.")
 
@@ -768,7 +767,7 @@ def size_rows(records, scene, mode, schemes, columns):
 
 def scandolo2016_table1(records, args):
     builds = [("city", "closed", ["CLOSED CITY", "CITYSCAPE"]), ("terrain", "closed", []),
-              ("forest", "closed", ["VILLA", "SHIP"]), ("city", "open", [])]
+              ("forest", "static", ["VILLA", "SHIP"]), ("city", "open", [])]
     schemes = [("cpvs", "DAG"), ("cpvs-fast", "DAG, Kämpe 2015"), ("mh", "MH"),
                ("mmh", "MMH, search distance 1000")]
     columns = mh_columns(records, ("mh", "mmh"), builds, MMH_RESOLUTIONS, args)
@@ -780,7 +779,7 @@ def scandolo2016_table1(records, args):
         "paper's Uncompressed row is 4·R²/2^20; this paper does not say), as printed. Schemes: "
         "mh = Scandolo 2016a (no merging), mmh = merged MH with the paper's local search distance "
         "1000, cpvs = Sintorn 2014's voxel DAG (the paper's DAG column). Mode closed, as in the "
-        "paper; the city open row has no paper counterpart (open: hi = lo wherever a ray hits, "
+        "paper (forest static: see below); the city open row has no paper counterpart (open: hi = lo wherever a ray hits, "
         "so subtrees merge only where their relative depths are equal).")
     lines += [CAP_NOTE + " – = not built / not in the paper.", ""]
     ratio_rows = []
@@ -829,7 +828,7 @@ def time_rows(records, scene, mode, schemes, columns):
 
 
 def scandolo2016_table2(records, args):
-    builds = [("city", "closed", "CLOSED CITY"), ("forest", "closed", "SHIP")]
+    builds = [("city", "closed", "CLOSED CITY"), ("forest", "static", "SHIP")]
     schemes = [("cpvs", "DAG"), ("cpvs-fast", "DAG, Kämpe 2015"), ("mh", "MH"), ("mmh", "MMH")]
     columns = mh_columns(records, ("mh", "mmh"), builds, MMH_RESOLUTIONS, args)
     lines = preamble(
@@ -956,7 +955,7 @@ def scandolo2016_fig8(records, args):
 
 def scandolo2021_table1(records, args):
     builds = [("city", "closed", ["Citadel", "City"]), ("terrain", "closed", []),
-              ("forest", "closed", ["Trees"]), ("tangle", "closed", ["Hairball"]),
+              ("forest", "static", ["Trees"]), ("tangle", "closed", ["Hairball"]),
               ("city", "open", [])]
     schemes = [("cpvs", "DAG"), ("cpvs-fast", "DAG, Kämpe 2015"),
                ("mmh", "MMH, search distance 1000"),
@@ -970,7 +969,7 @@ def scandolo2021_table1(records, args):
         "Uncompressed row is exactly 4·R²/2^20 (64 at 4K²), as printed. Schemes: cpvs = the "
         "voxel DAG (the paper's DAG column), mmh = Scandolo 2016 with search distance 1000, "
         "dag-mh = this paper (treelet height 4, 32 values per chunk, skip list at level 6). Mode "
-        "closed; the city open row has no paper counterpart (open: hi = lo wherever a ray hits). "
+        "closed (forest static: see below); the city open row has no paper counterpart (open: hi = lo wherever a ray hits). "
         "Dinos has no stand-in.")
     lines += [CAP_NOTE + " – = not built / not in the paper.", ""]
     ratio_rows = []

@@ -1,20 +1,13 @@
 #!/usr/bin/env bash
 # Scandolo & Eisemann 2021 (DAG-MH), Table 1: the size of `cpvs` (the paper's DAG), `mmh` (search
 # distance 1000) and `dag-mh` (treelets of 4, chunks of 32) on city (≈ Citadel, City) closed from
-# 4K² to --max-resolution, on terrain (no counterpart) and tangle (≈ Hairball) closed at 4K²,
-# 16K², 64K², and on forest (≈ Trees) closed and city open up to 8K² (`cpvs` on forest and
-# tangle up to 16K²; scandolo2016-table1.sh says why), beside the uncompressed 32-bit map and the
-# paper's sizes.
+# 4K² to --max-resolution, on terrain (no counterpart) and tangle (≈ Hairball) closed and forest
+# (≈ Trees) static (the paper's first and second surface) at 4K², 16K², 64K², and on city open
+# up to 8K² (`cpvs` on tangle up to 16K²; scandolo2016-table1.sh says why), beside the
+# uncompressed 32-bit map and the paper's sizes.
 #   scripts/reproduce/scandolo2021-table1.sh [--max-resolution 64K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
-# `resolutions` below a cap: capped CAP FIRST [STEP]
-capped() {
-  local cap max_texels=$max_texels
-  cap=$(texels "$1")
-  ((cap > max_texels)) || max_texels=$cap
-  resolutions "${@:2}"
-}
 up_to_16k=$(capped 16K 4K 4)
 up_to_8k=$(capped 8K 4K)
 defaults=(--param search-distance=1000 --param treelet-height=4 --param chunk-size=32
@@ -27,7 +20,7 @@ sweep --schemes mmh,dag-mh "${defaults[@]}" --scenes tangle:full --modes closed 
   --resolutions "$(resolutions 4K 4)"
 sweep --schemes mmh,dag-mh,cpvs "${defaults[@]}" --scenes city:full --modes open \
   --resolutions "$up_to_8k"
-sweep --schemes mmh,dag-mh "${defaults[@]}" --scenes forest:full --modes closed \
-  --resolutions "$up_to_8k"
-sweep --schemes cpvs --scenes forest:full,tangle:full --modes closed --resolutions "$up_to_16k"
+sweep --schemes mmh,dag-mh,cpvs "${defaults[@]}" --scenes forest:full --modes static \
+  --resolutions "$(resolutions 4K 4)"
+sweep --schemes cpvs --scenes tangle:full --modes closed --resolutions "$up_to_16k"
 tabulate
