@@ -67,23 +67,14 @@ class DagMhDecoder final : public DepthDecoder<DagMhDecoder> {
   ValueChunks values_;
 };
 
-class DagMhEncoder final : public Encoder {
+class DagMhEncoder final : public HierarchyEncoder {
  public:
-  DagMhEncoder(const MapInfo& map, DagMhConfig config)
-      : map_(map), config_(config), builder_(map) {}
-
-  void consume(const DualDepthTile& tile, BuildContext& context) override {
-    if (!started_) {
-      context.phase("mh");
-      started_ = true;
-    }
-    builder_.consume(tile);
-  }
+  DagMhEncoder(const MapInfo& map, DagMhConfig config) : HierarchyEncoder(map), config_(config) {}
 
   std::unique_ptr<Decoder> finish(BuildContext& context) override {
     dag_mh::DagBuild built;
     {
-      const MultiresHierarchy hierarchy = builder_.finish();
+      const MultiresHierarchy hierarchy = this->hierarchy();
       context.phase("dag");
       built = dag_mh::buildDag(hierarchy, config_.treeletHeight, config_.skipLevel);
     }
@@ -97,14 +88,12 @@ class DagMhEncoder final : public Encoder {
     context.count("factor values", stats.factors);
     context.count("factor bits", stats.factorBits);
     context.count("chunks", values.infoSize() / values.infoBytes());
-    return std::make_unique<DagMhDecoder>(map_.resolution, std::move(built.dag), std::move(values));
+    return std::make_unique<DagMhDecoder>(map().resolution, std::move(built.dag),
+                                          std::move(values));
   }
 
  private:
-  MapInfo map_;
   DagMhConfig config_;
-  MhBuilder builder_;
-  bool started_ = false;
 };
 
 SchemeInfo dagMh() {

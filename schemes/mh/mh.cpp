@@ -3,7 +3,6 @@
 // 16-bit scaled child offsets. A lookup returns the deepest stored depth on the texel's path.
 #include <fmt/format.h>
 
-#include "schemes/interface/depth_decoder.h"
 #include "schemes/shared/multires_hierarchy.h"
 #include "schemes/shared/offset_quadtree.h"
 
@@ -13,39 +12,14 @@ namespace {
 // SBE16a §5: 16-bit offsets, the other 8 bits of the 64-bit node are padding.
 constexpr int kOffsetBits = 16;
 
-class MhDecoder final : public HierarchicalDepthDecoder<MhDecoder> {
+using MhDecoder = OffsetQuadtreeDecoder<OffsetQuadtree::Values::Absolute>;
+
+class MhEncoder final : public HierarchyEncoder {
  public:
-  MhDecoder(uint32_t resolution, OffsetQuadtree tree)
-      : resolution_(resolution), tree_(std::move(tree)) {}
-
-  uint32_t resolution() const { return resolution_; }
-  float depth(uint32_t i, uint32_t j) const {
-    return depthOfKey(tree_.texelKey<OffsetQuadtree::Values::Absolute>(i, j, tree_.levels));
-  }
-  // SBE16a: every level of the hierarchy is a complete shadow map, read by stopping the walk.
-  float coarseDepth(uint32_t i, uint32_t j, int coarser) const {
-    return depthOfKey(tree_.texelKey<OffsetQuadtree::Values::Absolute>(i << coarser, j << coarser,
-                                                                       tree_.levels - coarser));
-  }
-  SizeBreakdown size() const override { return tree_.size(); }
-  void save(ByteWriter& out) const override { tree_.save(out); }
-
- private:
-  uint32_t resolution_;
-  OffsetQuadtree tree_;
-};
-
-class MhEncoder final : public Encoder {
- public:
-  explicit MhEncoder(const MapInfo& map) : map_(map), builder_(map) {}
-
-  void consume(const DualDepthTile& tile, BuildContext& context) override {
-    if (!started_) context.phase("mh"), started_ = true;
-    builder_.consume(tile);
-  }
+  using HierarchyEncoder::HierarchyEncoder;
 
   std::unique_ptr<Decoder> finish(BuildContext& context) override {
-    const MultiresHierarchy hierarchy = builder_.finish();
+    const MultiresHierarchy hierarchy = this->hierarchy();
     context.phase("serialise");
     // SBE16a §5: each interval is replaced by one representative, its middle.
     std::vector<uint32_t> values(hierarchy.nodes.size());
@@ -55,17 +29,13 @@ class MhEncoder final : public Encoder {
       values[n] = node.interval.middle();
       for (int k = 0; k < kMhChildren; ++k) ++kinds[int(node.child(k))];
     }
-    context.count("full nodes", kinds[int(MhChild::Full)] + hierarchy.nodes.back().hasChildren());
+    const bool rootHasChildren = hierarchy.nodes.back().hasChildren();
+    context.count("full nodes", kinds[int(MhChild::Full)] + rootHasChildren);
     context.count("empty nodes", kinds[int(MhChild::Empty)]);
-    context.count("leaves", kinds[int(MhChild::Leaf)] + !hierarchy.nodes.back().hasChildren());
+    context.count("leaves", kinds[int(MhChild::Leaf)] + !rootHasChildren);
     return std::make_unique<MhDecoder>(
-        map_.resolution, layoutOffsetQuadtree(hierarchy, values, {}, kOffsetBits, "mh"));
+        layoutOffsetQuadtree(hierarchy, values, {}, kOffsetBits, "mh"));
   }
-
- private:
-  MapInfo map_;
-  MhBuilder builder_;
-  bool started_ = false;
 };
 
 SchemeInfo mh() {
@@ -80,7 +50,7 @@ SchemeInfo mh() {
     return std::make_unique<MhEncoder>(map);
   };
   info.load = [](ByteReader& in, const MapInfo& map, const Params&) -> std::unique_ptr<Decoder> {
-    return std::make_unique<MhDecoder>(map.resolution, OffsetQuadtree::load(in, map, "mh"));
+    return std::make_unique<MhDecoder>(OffsetQuadtree::load(in, map, "mh"));
   };
   return info;
 }

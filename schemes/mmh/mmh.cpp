@@ -4,7 +4,6 @@
 // summing values on the way down (Alg. 1).
 #include <fmt/format.h>
 
-#include "schemes/interface/depth_decoder.h"
 #include "schemes/mmh/subtree_matching.h"
 #include "schemes/shared/offset_quadtree.h"
 
@@ -16,40 +15,15 @@ namespace {
 constexpr int kOffsetBits = 24;
 constexpr int kMergeLevels = 12;
 
-class MmhDecoder final : public HierarchicalDepthDecoder<MmhDecoder> {
- public:
-  MmhDecoder(uint32_t resolution, OffsetQuadtree tree)
-      : resolution_(resolution), tree_(std::move(tree)) {}
+using MmhDecoder = OffsetQuadtreeDecoder<OffsetQuadtree::Values::Relative>;
 
-  uint32_t resolution() const { return resolution_; }
-  float depth(uint32_t i, uint32_t j) const {
-    return depthOfKey(tree_.texelKey<OffsetQuadtree::Values::Relative>(i, j, tree_.levels));
-  }
-  // SBE16a: every level of the hierarchy is a complete shadow map, read by stopping the walk.
-  float coarseDepth(uint32_t i, uint32_t j, int coarser) const {
-    return depthOfKey(tree_.texelKey<OffsetQuadtree::Values::Relative>(i << coarser, j << coarser,
-                                                                       tree_.levels - coarser));
-  }
-  SizeBreakdown size() const override { return tree_.size(); }
-  void save(ByteWriter& out) const override { tree_.save(out); }
-
- private:
-  uint32_t resolution_;
-  OffsetQuadtree tree_;
-};
-
-class MmhEncoder final : public Encoder {
+class MmhEncoder final : public HierarchyEncoder {
  public:
   MmhEncoder(const MapInfo& map, uint32_t searchDistance)
-      : map_(map), builder_(map), searchDistance_(searchDistance) {}
-
-  void consume(const DualDepthTile& tile, BuildContext& context) override {
-    if (!started_) context.phase("mh"), started_ = true;
-    builder_.consume(tile);
-  }
+      : HierarchyEncoder(map), searchDistance_(searchDistance) {}
 
   std::unique_ptr<Decoder> finish(BuildContext& context) override {
-    const MultiresHierarchy hierarchy = builder_.finish();
+    const MultiresHierarchy hierarchy = this->hierarchy();
     context.phase("hash");
     SubtreeMatcher matcher(hierarchy, {searchDistance_, kMergeLevels, kOffsetBits});
     context.phase("match");
@@ -63,15 +37,11 @@ class MmhEncoder final : public Encoder {
     context.count("merges", s.merges);
     context.count("nodes removed", s.nodesRemoved);
     return std::make_unique<MmhDecoder>(
-        map_.resolution,
         layoutOffsetQuadtree(hierarchy, merged.values, merged.sharedChildren, kOffsetBits, "mmh"));
   }
 
  private:
-  MapInfo map_;
-  MhBuilder builder_;
   uint32_t searchDistance_;
-  bool started_ = false;
 };
 
 SchemeInfo mmh() {
@@ -94,7 +64,7 @@ SchemeInfo mmh() {
         map, uint32_t(findScheme("mmh").integer(params, "search-distance")));
   };
   info.load = [](ByteReader& in, const MapInfo& map, const Params&) -> std::unique_ptr<Decoder> {
-    return std::make_unique<MmhDecoder>(map.resolution, OffsetQuadtree::load(in, map, "mmh"));
+    return std::make_unique<MmhDecoder>(OffsetQuadtree::load(in, map, "mmh"));
   };
   return info;
 }

@@ -105,4 +105,24 @@ class MhBuilder {
   std::vector<std::pair<int, Pending>> waiting_;
 };
 
+// The encoder side the MH-family schemes share: tiles go into an MhBuilder under the phase "mh";
+// a scheme's finish() takes the hierarchy from hierarchy() and encodes it.
+class HierarchyEncoder : public Encoder {
+ public:
+  explicit HierarchyEncoder(const MapInfo& map) : map_(map), builder_(map) {}
+  void consume(const DualDepthTile& tile, BuildContext& context) final {
+    if (!started_) context.phase("mh"), started_ = true;
+    builder_.consume(tile);
+  }
+
+ protected:
+  MultiresHierarchy hierarchy() { return builder_.finish(); }
+  const MapInfo& map() const { return map_; }
+
+ private:
+  MapInfo map_;
+  MhBuilder builder_;
+  bool started_ = false;
+};
+
 }  // namespace sb

@@ -14,6 +14,7 @@
 #include <span>
 #include <vector>
 
+#include "schemes/interface/depth_decoder.h"
 #include "schemes/interface/serial.h"
 #include "schemes/shared/multires_hierarchy.h"
 
@@ -66,6 +67,28 @@ struct OffsetQuadtree {
   // the file, children only above the texel level, no inner node without children. `scheme`
   // names the scheme in errors.
   static OffsetQuadtree load(ByteReader& in, const MapInfo& map, const char* scheme);
+};
+
+// The decoder of `mh` (absolute values) and `mmh` (relative values): point, exact PCF and
+// hierarchical PCF, since every level of the hierarchy is a complete shadow map (SBE16a) read by
+// stopping the walk.
+template <OffsetQuadtree::Values mode>
+class OffsetQuadtreeDecoder final : public HierarchicalDepthDecoder<OffsetQuadtreeDecoder<mode>> {
+ public:
+  explicit OffsetQuadtreeDecoder(OffsetQuadtree tree) : tree_(std::move(tree)) {}
+
+  uint32_t resolution() const { return uint32_t(1) << tree_.levels; }
+  float depth(uint32_t i, uint32_t j) const {
+    return depthOfKey(tree_.texelKey<mode>(i, j, tree_.levels));
+  }
+  float coarseDepth(uint32_t i, uint32_t j, int coarser) const {
+    return depthOfKey(tree_.texelKey<mode>(i << coarser, j << coarser, tree_.levels - coarser));
+  }
+  SizeBreakdown size() const override { return tree_.size(); }
+  void save(ByteWriter& out) const override { tree_.save(out); }
+
+ private:
+  OffsetQuadtree tree_;
 };
 
 // Lays the hierarchy out in depth-first order. `values[n]` is the word stored for node n (Full
