@@ -1,0 +1,267 @@
+// sm-zstd — the float32 shadow map of sm32 cut into square blocks, each compressed on its own
+// with zstd. A general-purpose lossless codec as a reference point for the structured schemes:
+// lossless like sm32, and a lookup pays for decompressing the block its texel lies in.
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <bit>
+#include <cstring>
+#include <new>
+#include <unordered_map>
+
+#include <fmt/format.h>
+#include <zstd.h>
+
+#include "schemes/interface/depth_decoder.h"
+#include "schemes/interface/serial.h"
+
+namespace sb {
+namespace {
+
+constexpr const char* kScheme = "sm-zstd";
+
+// The block side a structure of resolution R uses: the `block` parameter, but never more than
+// the map itself (a map smaller than a block is one block).
+uint32_t blockSideOf(const SchemeInfo& scheme, const Params& params, uint32_t resolution) {
+  const int64_t block = scheme.integer(params, "block");
+  if (!std::has_single_bit(uint64_t(block)))
+    throw ParamError(fmt::format("scheme '{}': parameter 'block' must be a power of two, got '{}'",
+                                 scheme.name, block));
+  return std::min<uint32_t>(uint32_t(block), resolution);
+}
+
+// Decompresses one block frame into `texels` (blockTexels floats) with `context`; false if the
+// frame is not exactly one valid block.
+bool decompressBlock(ZSTD_DCtx* context, std::span<const uint8_t> frame, std::span<float> texels) {
+  const size_t expected = texels.size_bytes();
+  if (ZSTD_getFrameContentSize(frame.data(), frame.size()) != expected) return false;
+  const size_t written =
+      ZSTD_decompressDCtx(context, texels.data(), expected, frame.data(), frame.size());
+  return !ZSTD_isError(written) && written == expected;
+}
+
+// A zstd decompression context per thread: ZSTD_decompress would allocate and initialise one
+// (over 100 KiB) on every cache miss, which costs about as much as decoding a 16 KiB block.
+ZSTD_DCtx* threadContext() {
+  struct Owner {
+    ZSTD_DCtx* context = ZSTD_createDCtx();
+    ~Owner() { ZSTD_freeDCtx(context); }
+  };
+  thread_local Owner owner;
+  if (!owner.context) throw std::bad_alloc();
+  return owner.context;
+}
+
+// Decoded blocks a thread keeps: lookups from several TBB threads each decompress into their own
+// cache, so the decoder itself stays immutable. Keyed by decoder instance (ids are never reused,
+// so a destroyed decoder's blocks cannot answer for a new one) and block index. Four entries so
+// that a PCF kernel straddling a block corner does not decompress a block per kernel row.
+struct BlockCache {
+  static constexpr size_t kEntries = 4;
+  struct Entry {
+    uint64_t decoder = 0;  // 0: empty (instance ids start at 1)
+    uint64_t block = 0;
+    std::vector<float> texels;
+  };
+  std::array<Entry, kEntries> entries;
+  size_t next = 0;  // round-robin replacement
+};
+
+std::atomic<uint64_t> nextDecoderId{1};
+
+class SmZstdDecoder final : public DepthDecoder<SmZstdDecoder> {
+ public:
+  // `offsets` has a start per block plus the end of the last; validates everything so that
+  // lookups never meet a bad frame. Throws FormatError.
+  SmZstdDecoder(uint32_t resolution, uint32_t blockSide, std::vector<uint64_t> offsets,
+                std::vector<uint8_t> blocks)
+      : resolution_(resolution),
+        blockSide_(blockSide),
+        blocksPerRow_(resolution / blockSide),
+        offsets_(std::move(offsets)),
+        blocks_(std::move(blocks)),
+        id_(nextDecoderId.fetch_add(1)) {
+    const uint64_t blockCount = uint64_t(blocksPerRow_) * blocksPerRow_;
+    if (offsets_.size() != blockCount + 1)
+      throw FormatError(
+          fmt::format("{}: {} block offsets for {} blocks", kScheme, offsets_.size(), blockCount));
+    if (offsets_.front() != 0 || offsets_.back() != blocks_.size())
+      throw FormatError(
+          fmt::format("{}: block offsets do not span the compressed blocks", kScheme));
+    std::vector<float> texels(blockTexels());
+    for (uint64_t block = 0; block < blockCount; ++block) {
+      if (offsets_[block] > offsets_[block + 1])
+        throw FormatError(fmt::format("{}: block offsets decrease at block {}", kScheme, block));
+      if (!decompressBlock(threadContext(), frame(block), texels))
+        throw FormatError(fmt::format("{}: block {} does not decompress to {}² floats", kScheme,
+                                      block, blockSide_));
+    }
+  }
+
+  uint32_t resolution() const { return resolution_; }
+
+  float depth(uint32_t i, uint32_t j) const {
+    const uint64_t block = uint64_t(j / blockSide_) * blocksPerRow_ + i / blockSide_;
+    const std::vector<float>& texels = decodedBlock(block);
+    return texels[size_t(j % blockSide_) * blockSide_ + i % blockSide_];
+  }
+
+  SizeBreakdown size() const override {
+    return {{"blocks", blocks_.size()}, {"block offsets", offsets_.size() * sizeof(uint64_t)}};
+  }
+
+  void save(ByteWriter& out) const override {
+    out.putArray<uint64_t>(offsets_);
+    out.putArray<uint8_t>(blocks_);
+  }
+
+ private:
+  size_t blockTexels() const { return size_t(blockSide_) * blockSide_; }
+
+  std::span<const uint8_t> frame(uint64_t block) const {
+    return std::span(blocks_).subspan(offsets_[block], offsets_[block + 1] - offsets_[block]);
+  }
+
+  const std::vector<float>& decodedBlock(uint64_t block) const {
+    thread_local BlockCache cache;
+    for (const BlockCache::Entry& entry : cache.entries)
+      if (entry.decoder == id_ && entry.block == block) return entry.texels;
+    BlockCache::Entry& entry = cache.entries[cache.next];
+    cache.next = (cache.next + 1) % BlockCache::kEntries;
+    entry.texels.resize(blockTexels());
+    // Every frame was decompressed once at load, so this cannot fail short of memory corruption.
+    if (!decompressBlock(threadContext(), frame(block), entry.texels)) {
+      entry.decoder = 0;
+      throw std::logic_error(fmt::format("{}: block {} failed to decompress", kScheme, block));
+    }
+    entry.decoder = id_;
+    entry.block = block;
+    return entry.texels;
+  }
+
+  uint32_t resolution_, blockSide_, blocksPerRow_;
+  std::vector<uint64_t> offsets_;  // block b's frame is blocks_[offsets_[b], offsets_[b + 1])
+  std::vector<uint8_t> blocks_;
+  uint64_t id_;
+};
+
+class SmZstdEncoder final : public Encoder {
+ public:
+  SmZstdEncoder(const MapInfo& map, uint32_t blockSide, int level)
+      : map_(map),
+        blockSide_(blockSide),
+        blocksPerRow_(map.resolution / blockSide),
+        level_(level),
+        frames_(size_t(blocksPerRow_) * blocksPerRow_) {}
+
+  // A tile may hold several blocks or part of one: texels gather in a block's buffer and the
+  // block is compressed once all of it has arrived, so with Morton-ordered tiles only the blocks
+  // a tile boundary cuts through wait in memory.
+  void consume(const DualDepthTile& tile, BuildContext&) override {
+    for (uint32_t row = 0; row < tile.height; ++row) {
+      const uint32_t j = tile.y0 + row;
+      for (uint32_t i = tile.x0; i < tile.x0 + tile.width;) {
+        const uint32_t end = std::min(tile.x0 + tile.width, (i / blockSide_ + 1) * blockSide_);
+        const uint64_t block = uint64_t(j / blockSide_) * blocksPerRow_ + i / blockSide_;
+        PartialBlock& partial = partials_[block];
+        if (partial.texels.empty()) partial.texels.resize(size_t(blockSide_) * blockSide_);
+        std::copy_n(tile.lo.begin() + tile.index(i, j), end - i,
+                    partial.texels.begin() + size_t(j % blockSide_) * blockSide_ + i % blockSide_);
+        partial.arrived += end - i;
+        if (partial.arrived == partial.texels.size()) {
+          compress(block, partial.texels);
+          partials_.erase(block);
+        }
+        i = end;
+      }
+    }
+  }
+
+  std::unique_ptr<Decoder> finish(BuildContext& context) override {
+    if (!partials_.empty())
+      throw std::logic_error(
+          fmt::format("{}: {} blocks never received all their texels", kScheme, partials_.size()));
+    std::vector<uint64_t> offsets{0};
+    std::vector<uint8_t> blocks;
+    for (std::vector<uint8_t>& frame : frames_) {
+      blocks.insert(blocks.end(), frame.begin(), frame.end());
+      offsets.push_back(blocks.size());
+      std::vector<uint8_t>().swap(frame);
+    }
+    context.count("compressed bytes", blocks.size());
+    return std::make_unique<SmZstdDecoder>(map_.resolution, blockSide_, std::move(offsets),
+                                           std::move(blocks));
+  }
+
+ private:
+  struct PartialBlock {
+    std::vector<float> texels;
+    size_t arrived = 0;
+  };
+
+  void compress(uint64_t block, std::span<const float> texels) {
+    std::vector<uint8_t>& frame = frames_[block];
+    frame.resize(ZSTD_compressBound(texels.size_bytes()));
+    const size_t bytes =
+        ZSTD_compress(frame.data(), frame.size(), texels.data(), texels.size_bytes(), level_);
+    if (ZSTD_isError(bytes))
+      throw std::runtime_error(
+          fmt::format("{}: zstd failed on block {}: {}", kScheme, block, ZSTD_getErrorName(bytes)));
+    frame.resize(bytes);
+    frame.shrink_to_fit();
+  }
+
+  MapInfo map_;
+  uint32_t blockSide_, blocksPerRow_;
+  int level_;
+  std::unordered_map<uint64_t, PartialBlock> partials_;
+  std::vector<std::vector<uint8_t>> frames_;  // per block, in block order
+};
+
+SchemeInfo smZstd() {
+  SchemeInfo info;
+  info.name = kScheme;
+  info.paper = "float32 shadow map in square blocks, each compressed with zstd (reference codec)";
+  info.kind = SchemeKind::Depth;
+  info.params = {{"block",
+                  "texels per side of a block compressed on its own (a power of two)",
+                  "64",
+                  8,
+                  1024,
+                  {},
+                  {"32", "64", "128", "256"}},
+                 {"level", "zstd compression level", "3", 1, 19, {}, {"1", "3", "9", "19"}}};
+  // The compressed frames stay below the raw map; blocks in flight add at most a few rows of
+  // blocks, bounded here by one row of them.
+  info.buildBytes = [](const MapInfo& map, const Params& params) {
+    const uint64_t side = blockSideOf(findScheme(kScheme), params, map.resolution);
+    return map.texelCount() * sizeof(float) + uint64_t(map.resolution) * side * sizeof(float);
+  };
+  info.makeEncoder = [](const MapInfo& map, const Params& params) -> std::unique_ptr<Encoder> {
+    const SchemeInfo& scheme = findScheme(kScheme);
+    return std::make_unique<SmZstdEncoder>(map, blockSideOf(scheme, params, map.resolution),
+                                           int(scheme.integer(params, "level")));
+  };
+  info.load = [](ByteReader& in, const MapInfo& map,
+                 const Params& params) -> std::unique_ptr<Decoder> {
+    const SchemeInfo& scheme = findScheme(kScheme);
+    uint32_t side = 0;
+    try {
+      side = blockSideOf(scheme, params, map.resolution);
+    } catch (const ParamError& error) {
+      throw FormatError(fmt::format("{}: {}", kScheme, error.what()));
+    }
+    const uint64_t perRow = map.resolution / side;
+    auto offsets = in.getArray<uint64_t>("sm-zstd block offsets", perRow * perRow + 1);
+    auto blocks = in.getArray<uint8_t>("sm-zstd blocks");
+    return std::make_unique<SmZstdDecoder>(map.resolution, side, std::move(offsets),
+                                           std::move(blocks));
+  };
+  return info;
+}
+
+}  // namespace
+
+SHADOWBENCH_REGISTER_SCHEME(smZstd);
+
+}  // namespace sb

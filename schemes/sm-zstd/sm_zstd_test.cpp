@@ -1,0 +1,125 @@
+// sm-zstd beside the code: blocks larger and smaller than a tile assemble the same map as sm32,
+// lookups from several threads share no cache entries, and a payload whose block offsets or
+// frames are damaged (behind a valid checksum) does not load.
+#include <cstring>
+#include <thread>
+
+#include <catch2/catch.hpp>
+
+#include "schemes/interface/serial.h"
+#include "tests/support/synthetic_map.h"
+
+namespace sb {
+namespace {
+
+using testing::SyntheticMap;
+
+std::vector<Query> queriesOver(uint32_t count, uint64_t seed) {
+  std::vector<Query> queries;
+  uint64_t state = seed;
+  auto next = [&] {  // xorshift: any spread of points and depths will do
+    state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+    return float(state % 1000003) / 1000003.0f;
+  };
+  for (uint32_t q = 0; q < count; ++q) queries.push_back({next(), next(), next()});
+  return queries;
+}
+
+std::vector<float> answers(const Decoder& decoder, std::span<const Query> queries, int k) {
+  std::vector<float> visibility(queries.size());
+  decoder.lookup(queries, k, visibility);
+  return visibility;
+}
+
+TEST_CASE("sm-zstd answers as sm32 whether blocks are larger or smaller than tiles", "[sm-zstd]") {
+  const SyntheticMap map = SyntheticMap::random(64, DepthMode::Closed, 7);
+  const auto reference = map.build(findScheme("sm32"), {}, 16);
+  const std::vector<Query> queries = queriesOver(2000, 3);
+  for (const char* block : {"8", "16", "32", "64", "1024"})
+    for (uint32_t tile : {8u, 16u, 32u}) {
+      CAPTURE(block, tile);
+      const auto decoder =
+          map.build(findScheme("sm-zstd"), {{"block", block}, {"level", "1"}}, tile);
+      for (int k : {1, 5, 17})
+        CHECK(answers(*decoder, queries, k) == answers(*reference, queries, k));
+    }
+}
+
+TEST_CASE("sm-zstd lookups from several threads agree with one thread", "[sm-zstd]") {
+  const SyntheticMap map = SyntheticMap::random(128, DepthMode::Open, 11);
+  const auto a = map.build(findScheme("sm-zstd"), {{"block", "16"}}, 32);
+  const auto b = map.build(findScheme("sm-zstd"), {{"block", "32"}}, 32);
+  const std::vector<Query> queries = queriesOver(4000, 5);
+  const std::vector<float> expectedA = answers(*a, queries, 3), expectedB = answers(*b, queries, 3);
+  std::vector<std::vector<float>> got(8);
+  std::vector<std::thread> threads;
+  // Two decoders interleaved per thread: each thread's cache must tell their blocks apart.
+  for (size_t t = 0; t < got.size(); ++t)
+    threads.emplace_back([&, t] {
+      const Decoder& decoder = t % 2 ? *a : *b;
+      for (int round = 0; round < 3; ++round) got[t] = answers(decoder, queries, 3);
+    });
+  for (std::thread& thread : threads) thread.join();
+  for (size_t t = 0; t < got.size(); ++t) CHECK(got[t] == (t % 2 ? expectedA : expectedB));
+}
+
+TEST_CASE("sm-zstd refuses block sizes that are not powers of two", "[sm-zstd]") {
+  const SchemeInfo& scheme = findScheme("sm-zstd");
+  const SyntheticMap map = SyntheticMap::random(16, DepthMode::Open, 1);
+  auto message = [&](const Params& params) {
+    try {
+      map.build(scheme, params, 16);
+    } catch (const ParamError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  CHECK_THAT(message({{"block", "48"}}),
+             Catch::Contains("'sm-zstd'") && Catch::Contains("'block'"));
+  CHECK_THAT(message({{"block", "4"}}), Catch::Contains("'sm-zstd'") && Catch::Contains("'block'"));
+  CHECK_THAT(message({{"level", "20"}}),
+             Catch::Contains("'sm-zstd'") && Catch::Contains("'level'"));
+}
+
+TEST_CASE("sm-zstd rejects damaged block offsets and frames at load", "[sm-zstd][format]") {
+  const SchemeInfo& scheme = findScheme("sm-zstd");
+  const SyntheticMap map = SyntheticMap::random(32, DepthMode::Closed, 4);
+  const Params params = scheme.resolve({{"block", "8"}});
+  const auto decoder = map.build(scheme, params, 16);
+  ByteWriter writer;
+  decoder->save(writer);
+  const std::vector<uint8_t> payload = writer.bytes();
+  auto load = [&](const std::vector<uint8_t>& bytes) {
+    ByteReader in(bytes);
+    auto loaded = scheme.load(in, map.info(scheme.kind), params);
+    in.expectEnd();
+    return loaded;
+  };
+  REQUIRE_NOTHROW(load(payload));
+
+  const size_t blocks = (32 / 8) * (32 / 8);
+  auto offsetAt = [&](size_t b) { return sizeof(uint64_t) * (1 + b); };  // after the count
+  auto withOffset = [&](size_t b, uint64_t value) {
+    std::vector<uint8_t> bytes = payload;
+    std::memcpy(bytes.data() + offsetAt(b), &value, sizeof value);
+    return bytes;
+  };
+  uint64_t third;
+  std::memcpy(&third, payload.data() + offsetAt(3), sizeof third);
+  CHECK_THROWS_AS(load(withOffset(3, third + 1)), FormatError);  // frames cut wrong
+  CHECK_THROWS_AS(load(withOffset(3, third - 1)), FormatError);
+  CHECK_THROWS_AS(load(withOffset(2, third + 5)), FormatError);          // offsets decrease
+  CHECK_THROWS_AS(load(withOffset(0, 1)), FormatError);                  // not starting at 0
+  CHECK_THROWS_AS(load(withOffset(blocks, ~uint64_t(0))), FormatError);  // past the data
+  // A flipped byte inside a frame: zstd's content size or data no longer decode to one block.
+  std::vector<uint8_t> frameDamaged = payload;
+  const size_t dataStart = offsetAt(blocks + 1) + sizeof(uint64_t);
+  for (size_t at = dataStart; at < dataStart + 8; ++at) {
+    frameDamaged = payload;
+    frameDamaged[at] ^= 0x40;
+    CHECK_THROWS_AS(load(frameDamaged), FormatError);
+  }
+}
+
+}  // namespace
+}  // namespace sb
