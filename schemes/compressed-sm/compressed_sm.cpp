@@ -36,44 +36,61 @@ double halfGapAbove(float x) {
   return (double(std::nextafter(x, std::numeric_limits<float>::infinity())) - double(x)) / 2;
 }
 
+struct Line {
+  float start, slope;
+  size_t end;  // one past the segment's last column
+};
+
+// The longest segment from column `first` whose line starts at `start` (Arvo & Hirvikorpi 2005,
+// §3): the slopes of the lines from the start value that pass through every interval so far form
+// a range; each texel narrows it, and the segment ends where it becomes empty.
+Line extend(std::span<const float> lo, std::span<const float> hi, size_t first, float start) {
+  double slopeMin = -std::numeric_limits<double>::infinity();
+  double slopeMax = std::numeric_limits<double>::infinity();
+  size_t end = first + 1;
+  for (; end < lo.size(); ++end) {
+    const double k = double(end - first);
+    const float l = lo[end], h = upperBound(lo[end], hi[end]);
+    const double low = std::max(slopeMin, (double(l) - halfGapBelow(l) - start) / k);
+    const double high = std::min(slopeMax, (double(h) + halfGapAbove(h) - start) / k);
+    if (low > high) break;
+    slopeMin = low, slopeMax = high;
+  }
+  const float slope = end == first + 1 ? 0.0f : float((slopeMin + slopeMax) / 2);
+  // The range was found in double precision; the lookup evaluates in float32. Check every texel
+  // exactly as the lookup computes it and end the segment before the first one that rounding
+  // pushes out of its interval (the first texel is the start value itself).
+  for (size_t i = first + 1; i < end; ++i) {
+    const float d = segmentDepth(start, slope, uint32_t(i - first));
+    if (!(d >= lo[i] && d <= upperBound(lo[i], hi[i]))) {
+      end = i;
+      break;
+    }
+  }
+  return {start, end == first + 1 ? 0.0f : slope, end};
+}
+
 }  // namespace
 
 size_t fitScanline(std::span<const float> lo, std::span<const float> hi, Segments& out) {
   const size_t n = lo.size(), before = out.count();
   size_t first = 0;
   while (first < n) {
-    // The segment's start value: the middle of its first interval, the most room both ways.
+    // The segment's start value is free within its first interval. Try its middle (the most
+    // room both ways) and both ends (a slope that leaves the interval from one end reaches
+    // furthest), keep the longest segment, the middle on ties.
     const float l0 = lo[first], h0 = upperBound(lo[first], hi[first]);
-    const float start = std::clamp(float((double(l0) + double(h0)) / 2), l0, h0);
-    // Greedy extension (Arvo & Hirvikorpi 2005, §3): the slopes of the lines from the start
-    // value that pass through every interval so far form a range; each texel narrows it, and the
-    // segment ends where it becomes empty.
-    double slopeMin = -std::numeric_limits<double>::infinity();
-    double slopeMax = std::numeric_limits<double>::infinity();
-    size_t end = first + 1;
-    for (; end < n; ++end) {
-      const double k = double(end - first);
-      const float l = lo[end], h = upperBound(lo[end], hi[end]);
-      const double low = std::max(slopeMin, (double(l) - halfGapBelow(l) - start) / k);
-      const double high = std::min(slopeMax, (double(h) + halfGapAbove(h) - start) / k);
-      if (low > high) break;
-      slopeMin = low, slopeMax = high;
-    }
-    const float slope = end == first + 1 ? 0.0f : float((slopeMin + slopeMax) / 2);
-    // The range was found in double precision; the lookup evaluates in float32. Check every
-    // texel exactly as the lookup computes it and end the segment before the first one that
-    // rounding pushes out of its interval (the first texel is the start value itself).
-    for (size_t i = first + 1; i < end; ++i) {
-      const float d = segmentDepth(start, slope, uint32_t(i - first));
-      if (!(d >= lo[i] && d <= upperBound(lo[i], hi[i]))) {
-        end = i;
-        break;
+    const float middle = std::clamp(float((double(l0) + double(h0)) / 2), l0, h0);
+    Line best = extend(lo, hi, first, middle);
+    if (l0 != h0)
+      for (float start : {l0, h0}) {
+        const Line line = extend(lo, hi, first, start);
+        if (line.end > best.end) best = line;
       }
-    }
     out.firstColumns.push_back(uint32_t(first));
-    out.starts.push_back(start);
-    out.slopes.push_back(end == first + 1 ? 0.0f : slope);
-    first = end;
+    out.starts.push_back(best.start);
+    out.slopes.push_back(best.slope);
+    first = best.end;
   }
   return out.count() - before;
 }
