@@ -272,7 +272,7 @@ void runDistantFilters(const CommandOptions& o) {
   const QuerySet set =
       o.queries == "view" ? viewSamples(scene, source, 1920, 1080, 2) : uniformQueries(1 << 22, 7);
   DistantFiltersOptions options;
-  if (scheme.kind != SchemeKind::Voxel) options.voaaSides.clear();
+  if (!readsVoxelOccupancy(*full.decoder)) options.voaaSides.clear();
   fmt::print("evaluating {} {} queries\n", set.queries.size(), set.name);
   const DistantFiltersReport report = evaluateDistantFilters(scheme, full, mraa, set, options);
 

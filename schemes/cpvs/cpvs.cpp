@@ -18,16 +18,7 @@ class CpvsEncoder final : public CubeColumnEncoder {
   void prepareTile(const DualDepthTile& tile, BuildContext& context) override {
     context.phase("min-max");
     sliceIntervals(tile, shape_.side(0), intervals_);
-    pyramid_.emplace(tileSize(), [&](uint32_t bx, uint32_t by) {
-      BlockPyramid::Bounds bounds{~0u, 0};
-      for (uint32_t y = by * 8; y < by * 8 + 8; ++y)
-        for (uint32_t x = bx * 8; x < bx * 8 + 8; ++x) {
-          const SliceInterval& interval = intervals_[size_t(y) * tileSize() + x];
-          bounds.litUntil = std::min(bounds.litUntil, interval.shadowBegin);
-          bounds.shadowFrom = std::max(bounds.shadowFrom, interval.litEnd);
-        }
-      return bounds;
-    });
+    pyramid_.emplace(BlockPyramid::over(intervals_, tileSize()));
   }
 
   SvoChild insertCube(uint32_t z0, uint32_t depth) override { return insert(0, 0, z0, depth); }
@@ -36,11 +27,16 @@ class CpvsEncoder final : public CubeColumnEncoder {
   // pyramid, else split and its undefined children decided by the parent rule (§6.1).
   SvoChild insert(uint32_t x, uint32_t y, uint32_t z, uint32_t depth) {
     const uint32_t side = shape_.side(depth);
-    const BlockPyramid::Bounds& bounds = pyramid_->footprint(x, y, side);
-    const bool mayBeLit = z + side - 1 < bounds.litUntil, mayBeShadowed = z >= bounds.shadowFrom;
-    if (mayBeLit && mayBeShadowed) return {SvoChild::Undefined};
-    if (mayBeLit) return {SvoChild::Lit};
-    if (mayBeShadowed) return {SvoChild::Shadowed};
+    switch (pyramid_->classify(x, y, side, z, z + side - 1)) {
+      case BlockPyramid::Volume::Undefined:
+        return {SvoChild::Undefined};
+      case BlockPyramid::Volume::Lit:
+        return {SvoChild::Lit};
+      case BlockPyramid::Volume::Shadowed:
+        return {SvoChild::Shadowed};
+      case BlockPyramid::Volume::Mixed:
+        break;
+    }
 
     std::array<SvoChild, 8> children;
     if (depth == shape_.leafParentDepth()) {

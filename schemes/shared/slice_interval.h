@@ -81,6 +81,33 @@ class BlockPyramid {
     return at(level, x / side, y / side);
   }
 
+  // What the bounds say of the volume over slices [z0, z1] of a footprint: every voxel lit or
+  // undefined (Lit), shadowed or undefined (Shadowed), undefined (Undefined), or both lit and
+  // shadowed voxels in it (Mixed).
+  enum class Volume { Lit, Shadowed, Undefined, Mixed };
+  Volume classify(uint32_t x, uint32_t y, uint32_t side, uint32_t z0, uint32_t z1) const {
+    const Bounds& bounds = footprint(x, y, side);
+    const bool mayBeLit = z1 < bounds.litUntil, mayBeShadowed = z0 >= bounds.shadowFrom;
+    return mayBeLit && mayBeShadowed ? Volume::Undefined
+           : mayBeLit                ? Volume::Lit
+           : mayBeShadowed           ? Volume::Shadowed
+                                     : Volume::Mixed;
+  }
+
+  // The pyramid over a square tile's slice intervals (row-major, `tileSize` per side).
+  static BlockPyramid over(const std::vector<SliceInterval>& intervals, uint32_t tileSize) {
+    return BlockPyramid(tileSize, [&](uint32_t bx, uint32_t by) {
+      Bounds bounds{~0u, 0};
+      for (uint32_t y = by * kBlock; y < (by + 1) * kBlock; ++y)
+        for (uint32_t x = bx * kBlock; x < (bx + 1) * kBlock; ++x) {
+          const SliceInterval& interval = intervals[size_t(y) * tileSize + x];
+          bounds.litUntil = std::min(bounds.litUntil, interval.shadowBegin);
+          bounds.shadowFrom = std::max(bounds.shadowFrom, interval.litEnd);
+        }
+      return bounds;
+    });
+  }
+
  private:
   const Bounds& at(size_t level, uint32_t x, uint32_t y) const {
     return levels_[level][size_t(y) * sides_[level] + x];

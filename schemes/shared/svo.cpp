@@ -16,13 +16,16 @@ SvoChild::Kind resolveByParent(std::array<SvoChild, 8>& children) {
     undefined |= child.kind == SvoChild::Undefined;
     nodes |= !child.homogeneous();
   }
-  if (!nodes && !lit && !shadowed) return SvoChild::Undefined;
-  if (!nodes && !shadowed) return SvoChild::Lit;
-  if (!nodes && !lit) return SvoChild::Shadowed;
-  if (undefined)
+  const SvoChild::Kind kind = parentKind(lit, shadowed, nodes);
+  if (kind == SvoChild::Local && undefined)
     for (SvoChild& child : children)
       if (child.kind == SvoChild::Undefined) child.kind = SvoChild::Shadowed;
-  return SvoChild::Local;
+  return kind;
+}
+
+SvoChild::Kind parentKind(bool lit, bool shadowed, bool nodes) {
+  if (nodes || (lit && shadowed)) return SvoChild::Local;
+  return lit ? SvoChild::Lit : shadowed ? SvoChild::Shadowed : SvoChild::Undefined;
 }
 
 LocalSvo::LocalSvo(VoxelDagShape shape)

@@ -32,6 +32,9 @@ struct SvoChild {
 // lit (or only shadowed) siblings they join them and the parent is homogeneous; next to both,
 // they become shadowed. Returns the parent's kind: homogeneous, or Local when it needs a node.
 SvoChild::Kind resolveByParent(std::array<SvoChild, 8>& children);
+// The same rule for a parent of any arity, from which kinds its children hold: Lit, Shadowed or
+// Undefined when it is homogeneous, else Local (its undefined children become shadowed).
+SvoChild::Kind parentKind(bool lit, bool shadowed, bool nodes);
 
 // The SVO nodes of one cube, inserted top-down and then merged bottom-up into the DAG.
 class LocalSvo {

@@ -459,6 +459,10 @@ void voxelOccupancy(const Decoder& decoder, std::span<const Query> queries, uint
   }
 }
 
+bool readsVoxelOccupancy(const Decoder& decoder) {
+  return dynamic_cast<const VoxelDagDecoder*>(&decoder) != nullptr;
+}
+
 std::unique_ptr<Decoder> loadVoxelDag(ByteReader& in, const VoxelDagShape& shape,
                                       uint32_t gridLevels) {
   VoxelDag dag;

@@ -134,5 +134,7 @@ std::unique_ptr<Decoder> loadVoxelDag(ByteReader& in, const VoxelDagShape& shape
 // Decoder::lookup). Throws std::invalid_argument unless `decoder` is a CPVS decoder.
 void voxelOccupancy(const Decoder& decoder, std::span<const Query> queries, uint32_t depth,
                     std::span<float> litFraction);
+// Whether `decoder` is a CPVS decoder, which voxelOccupancy reads (other voxel schemes are not).
+bool readsVoxelOccupancy(const Decoder& decoder);
 
 }  // namespace sb
