@@ -219,7 +219,7 @@ class ShadowGridEncoder final : public Encoder {
   }
 
   void consume(const DualDepthTile& tile, BuildContext& context) override {
-    context.phase("min-max");
+    context.phase("slice intervals");
     std::vector<std::pair<uint64_t, ColumnTexels>> finished;
     for (uint32_t j = tile.y0; j < tile.y0 + tile.height; ++j)
       for (uint32_t i = tile.x0; i < tile.x0 + tile.width;) {
