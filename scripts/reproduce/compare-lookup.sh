@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Lookup cost of every lossless scheme side by side (issue 5): ns per query on one thread of
+# `sm32`, `compressed-sm`, `sm-zstd`, `openvdb`, `cpvs`, `cpvs-fast`, `mh`, `mmh` and `dag-mh`,
+# each at its registry defaults, for point lookups (1×1) and 9×9 PCF, uniform (the issue's random
+# queries) and view queries, with the size beside them, on city closed and terrain closed at
+# 4K², 16K², 64K² up to --max-resolution, and every other cell with timings the records folder
+# holds (compare-size.sh builds open mode and the resolutions between). The cells are those
+# compare-size.sh builds, with its memory caps: `sm32` and `openvdb` up to 16K², `sm-zstd` and
+# `compressed-sm` up to 32K² (so all four at 4K² and 16K² here); `openvdb` where this build
+# registers it.
+#   scripts/reproduce/compare-lookup.sh [--max-resolution 64K] [sweep options]
+# shellcheck source=scripts/reproduce/common.sh
+source "$(dirname "$0")/common.sh"
+# The registry defaults, given explicitly as compare-size.sh gives them (the same cells).
+mh_family=(--param search-distance=1000 --param treelet-height=4 --param chunk-size=32
+  --param skip-level=6)
+voxel=(--param grid-levels=0 --param leaf-layout=slab8 --param culling=on
+  --param transitions=aligned)
+zstd=(--param block=64 --param level=3)
+scenes=city:full,terrain:full
+# compare-size.sh says why these caps (memory: no cell above about 16 GiB).
+up_to_16k=$(capped 16K 4K 4)
+up_to_32k=$(capped 32K 4K 4)
+sweep --schemes cpvs,cpvs-fast "${voxel[@]}" --scenes "$scenes" --modes closed \
+  --resolutions "$(resolutions 4K 4)"
+sweep --schemes mh,mmh,dag-mh "${mh_family[@]}" --scenes "$scenes" --modes closed \
+  --resolutions "$(resolutions 4K 4)"
+sweep --schemes sm-zstd "${zstd[@]}" --scenes "$scenes" --modes closed --resolutions "$up_to_32k"
+sweep --schemes compressed-sm --scenes "$scenes" --modes closed --resolutions "$up_to_32k"
+sweep --schemes sm32 --scenes "$scenes" --modes closed --resolutions "$up_to_16k"
+if "$sb" schemes | grep '^openvdb ' >/dev/null; then  # not -q: under pipefail, an early exit
+  # of grep could fail the pipe
+  sweep --schemes openvdb --scenes "$scenes" --modes closed --resolutions "$up_to_16k"
+else
+  echo "compare-lookup: this shadowbench has no scheme 'openvdb'; its rows stay empty" |
+    tee -a "$log"
+fi
+tabulate

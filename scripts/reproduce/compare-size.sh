@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Size of every lossless scheme side by side (issue 5): `sm32`, `compressed-sm`, `sm-zstd`,
+# `openvdb`, `cpvs`, `cpvs-fast`, `mh`, `mmh` and `dag-mh`, each at its registry defaults, on city
+# and terrain, closed and open, 4K² to --max-resolution in MiB, beside the uncompressed float32
+# map (4·R² bytes). Some cells are capped for memory (this machine: 2 cores, 24 GiB, shared; no
+# cell may peak above about 16 GiB): `sm32` up to 16K² (4·R² bytes, which is the analytic row),
+# `openvdb` up to 16K², `sm-zstd` and `compressed-sm` up to 32K², `mh`, `mmh` and `dag-mh` open
+# up to 8K² (a node per texel); the caps are explained below and in the table. `openvdb` is swept
+# where this build registers it.
+#   scripts/reproduce/compare-size.sh [--max-resolution 64K] [sweep options]
+# shellcheck source=scripts/reproduce/common.sh
+source "$(dirname "$0")/common.sh"
+# Every scheme at its registry defaults, given explicitly so that the cells stay the ones the
+# other tables build (a record's file name carries its parameters) if a default changes.
+mh_family=(--param search-distance=1000 --param treelet-height=4 --param chunk-size=32
+  --param skip-level=6)
+voxel=(--param grid-levels=0 --param leaf-layout=slab8 --param culling=on
+  --param transitions=aligned)
+zstd=(--param block=64 --param level=3)
+scenes=city:full,terrain:full
+
+# Caps (estimates from the 4K² and 8K² records):
+# - sm32 up to 16K²: the map is 4·R² bytes (4 GiB at 32K², 16 GiB at 64K²), exactly the analytic
+#   row, so larger cells add nothing to a size table.
+# - sm-zstd up to 32K²: 37.8 MiB at 4K², 147 MiB at 8K² (×3.9 per doubling; the same in every
+#   mode and on both scenes, as it stores `lo` only), so about 2.1 GiB at 32K² and 8.3 GiB at
+#   64K². The build holds the per-block frames and their concatenation at once (peak 1.5–2.3× the
+#   result above the baseline at 8K²), so 64K² would peak at 17–19 GiB.
+# - compressed-sm up to 32K²: the encoder buffers `lo` and `hi` of every band of tile rows until
+#   the band is complete; in Morton tile order that is half the map at once, 4·R² bytes (16 GiB
+#   at 64K²), besides the segments (city open 98 MiB at 8K², ×3.8 per doubling: 5.3 GiB at 64K²).
+#   At 32K²: 4 GiB buffered plus about 1.4 GiB of segments.
+# - mh, mmh, dag-mh open up to 8K²: the ground is a point interval of changing depth, so the
+#   hierarchy keeps about a node per texel (mh 70 MiB at 4K², ×4 per doubling) and mmh's build
+#   peaks at 5.3 GiB at 8K² on city (1.6 GiB at 4K² on terrain, as on city): over 20 GiB at 16K².
+# - openvdb up to 16K²: 0.92 GiB at 8K² on city closed, 1.07 GiB open (×4.2 per doubling from 2K²;
+#   terrain 0.40 and 0.84 GiB), so about 4.4 GiB at 16K² and 18 GiB at 32K².
+up_to_16k=$(capped 16K 4K)
+up_to_32k=$(capped 32K 4K)
+up_to_8k=$(capped 8K 4K)
+sweep --schemes cpvs,cpvs-fast "${voxel[@]}" --scenes "$scenes" --modes closed,open \
+  --resolutions "$(resolutions 4K)"
+sweep --schemes mh,mmh,dag-mh "${mh_family[@]}" --scenes "$scenes" --modes closed \
+  --resolutions "$(resolutions 4K)"
+sweep --schemes mh,mmh,dag-mh "${mh_family[@]}" --scenes "$scenes" --modes open \
+  --resolutions "$up_to_8k"
+sweep --schemes sm-zstd "${zstd[@]}" --scenes "$scenes" --modes closed,open \
+  --resolutions "$up_to_32k"
+sweep --schemes compressed-sm --scenes "$scenes" --modes closed,open --resolutions "$up_to_32k"
+sweep --schemes sm32 --scenes "$scenes" --modes closed,open --resolutions "$up_to_16k"
+# openvdb: at its defaults, once this build registers it (its row says "no records" until then).
+if "$sb" schemes | grep '^openvdb ' >/dev/null; then  # not -q: under pipefail, an early exit
+  # of grep could fail the pipe
+  sweep --schemes openvdb --scenes "$scenes" --modes closed,open --resolutions "$up_to_16k"
+else
+  echo "compare-size: this shadowbench has no scheme 'openvdb'; its row stays empty" | tee -a "$log"
+fi
+tabulate
