@@ -74,8 +74,8 @@ BuildOutcome buildStructure(const DepthSource& source, const SchemeInfo& scheme,
   outcome.tileSize = tileSize;
   checkBuildFits(scheme, outcome.map, outcome.params);
 
-  outcome.baselineRssBytes = currentRssBytes();
   resetPeakRss();
+  outcome.baselineRssBytes = currentRssBytes();
   const uint64_t fallbacksBefore = source.closedFallbacks();
   const auto start = Clock::now();
   TimedBuildContext context;

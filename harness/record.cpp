@@ -1,6 +1,7 @@
 #include "harness/record.h"
 
 #include <fcntl.h>
+#include <malloc.h>
 #include <sys/utsname.h>
 #include <unistd.h>
 
@@ -218,6 +219,9 @@ uint64_t peakRssBytes() {
 }
 
 void resetPeakRss() {
+  // Heap pages an earlier build freed stay resident until trimmed, and would count in this
+  // build's baseline and peak (a sweep builds cell after cell in one process).
+  malloc_trim(0);
   // "5" resets VmHWM to the current RSS (Linux ≥ 4.0). Without it the peak includes whatever
   // ran before, which only overstates; nothing to report.
   if (FILE* file = std::fopen("/proc/self/clear_refs", "w")) {

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -41,57 +40,92 @@ struct Line {
   size_t end;  // one past the segment's last column
 };
 
-// The longest segment from column `first` whose line starts at `start` (Arvo & Hirvikorpi 2005,
-// §3): the slopes of the lines from the start value that pass through every interval so far form
-// a range; each texel narrows it, and the segment ends where it becomes empty.
-Line extend(std::span<const float> lo, std::span<const float> hi, size_t first, float start) {
-  double slopeMin = -std::numeric_limits<double>::infinity();
-  double slopeMax = std::numeric_limits<double>::infinity();
-  size_t end = first + 1;
-  for (; end < lo.size(); ++end) {
-    const double k = double(end - first);
-    const float l = lo[end], h = upperBound(lo[end], hi[end]);
-    const double low = std::max(slopeMin, (double(l) - halfGapBelow(l) - start) / k);
-    const double high = std::min(slopeMax, (double(h) + halfGapAbove(h) - start) / k);
-    if (low > high) break;
-    slopeMin = low, slopeMax = high;
+// Narrows the candidate's range of slopes (Arvo & Hirvikorpi 2005, §3: the lines from its start
+// value through every interval so far) by the texels after the ones it has seen, until a texel
+// empties it. `first` is the segment's first texel.
+void narrow(OpenSegment::Candidate& candidate, std::span<const float> lo, std::span<const float> hi,
+            size_t first) {
+  for (; candidate.end < lo.size(); ++candidate.end) {
+    const double k = double(candidate.end - first);
+    const float l = lo[candidate.end], h = upperBound(lo[candidate.end], hi[candidate.end]);
+    const double low =
+        std::max(candidate.slopeMin, (double(l) - halfGapBelow(l) - candidate.start) / k);
+    const double high =
+        std::min(candidate.slopeMax, (double(h) + halfGapAbove(h) - candidate.start) / k);
+    if (low > high) {
+      candidate.ended = true;
+      return;
+    }
+    candidate.slopeMin = low, candidate.slopeMax = high;
   }
-  const float slope = end == first + 1 ? 0.0f : float((slopeMin + slopeMax) / 2);
+}
+
+// The segment a candidate gives: the middle of its slope range, ended before the first texel
+// that float32 rounding pushes out of its interval.
+Line lineOf(const OpenSegment::Candidate& candidate, std::span<const float> lo,
+            std::span<const float> hi, size_t first) {
+  size_t end = candidate.end;
+  const float slope =
+      end == first + 1 ? 0.0f : float((candidate.slopeMin + candidate.slopeMax) / 2);
   // The range was found in double precision; the lookup evaluates in float32. Check every texel
-  // exactly as the lookup computes it and end the segment before the first one that rounding
-  // pushes out of its interval (the first texel is the start value itself).
+  // exactly as the lookup computes it (the first texel is the start value itself).
   for (size_t i = first + 1; i < end; ++i) {
-    const float d = segmentDepth(start, slope, uint32_t(i - first));
+    const float d = segmentDepth(candidate.start, slope, uint32_t(i - first));
     if (!(d >= lo[i] && d <= upperBound(lo[i], hi[i]))) {
       end = i;
       break;
     }
   }
-  return {start, end == first + 1 ? 0.0f : slope, end};
+  return {candidate.start, end == first + 1 ? 0.0f : slope, end};
 }
 
 }  // namespace
 
-size_t fitScanline(std::span<const float> lo, std::span<const float> hi, Segments& out) {
-  const size_t n = lo.size(), before = out.count();
+size_t fitDecided(std::span<const float> lo, std::span<const float> hi, uint32_t firstColumn,
+                  bool complete, Segments& out, OpenSegment& open) {
+  const size_t n = lo.size();
   size_t first = 0;
   while (first < n) {
-    // The segment's start value is free within its first interval. Try its middle (the most
-    // room both ways) and both ends (a slope that leaves the interval from one end reaches
-    // furthest), keep the longest segment, the middle on ties.
-    const float l0 = lo[first], h0 = upperBound(lo[first], hi[first]);
-    const float middle = std::clamp(float((double(l0) + double(h0)) / 2), l0, h0);
-    Line best = extend(lo, hi, first, middle);
-    if (l0 != h0)
-      for (float start : {l0, h0}) {
-        const Line line = extend(lo, hi, first, start);
-        if (line.end > best.end) best = line;
+    if (open.count == 0) {
+      // The segment's start value is free within its first interval. Try its middle (the most
+      // room both ways) and both ends (a slope that leaves the interval from one end reaches
+      // furthest), keep the longest segment, the middle on ties.
+      const float l0 = lo[first], h0 = upperBound(lo[first], hi[first]);
+      const float middle = std::clamp(float((double(l0) + double(h0)) / 2), l0, h0);
+      for (float start : {middle, l0, h0}) {
+        open.candidates[open.count++] = {start, -std::numeric_limits<double>::infinity(),
+                                         std::numeric_limits<double>::infinity(), first + 1, false};
+        if (l0 == h0) break;
       }
-    out.firstColumns.push_back(uint32_t(first));
+    }
+    bool undecided = false;
+    for (uint32_t c = 0; c < open.count; ++c) {
+      narrow(open.candidates[c], lo, hi, first);
+      undecided |= !open.candidates[c].ended;
+    }
+    // A candidate that no texel so far has ended may still become the longest.
+    if (undecided && !complete) {
+      for (uint32_t c = 0; c < open.count; ++c) open.candidates[c].end -= first;
+      break;
+    }
+    Line best = lineOf(open.candidates[0], lo, hi, first);
+    for (uint32_t c = 1; c < open.count; ++c) {
+      const Line line = lineOf(open.candidates[c], lo, hi, first);
+      if (line.end > best.end) best = line;
+    }
+    open.count = 0;
+    out.firstColumns.push_back(firstColumn + uint32_t(first));
     out.starts.push_back(best.start);
     out.slopes.push_back(best.slope);
     first = best.end;
   }
+  return first;
+}
+
+size_t fitScanline(std::span<const float> lo, std::span<const float> hi, Segments& out) {
+  const size_t before = out.count();
+  OpenSegment open;
+  fitDecided(lo, hi, 0, true, out, open);
   return out.count() - before;
 }
 
@@ -130,103 +164,86 @@ class CompressedSmDecoder final : public DepthDecoder<CompressedSmDecoder> {
   Segments segments_;
 };
 
-// Tiles arrive square and in Morton order, so a scanline is complete only when every tile of its
-// band (a row of tiles) has arrived. The encoder buffers lo/hi of each band until then, fits its
-// scanlines and frees it. In Morton order at most R / 2 rows are buffered at once (after the
-// top-left quadrant every band of the top half is half full): 4 R² bytes, half of the map.
+// Tiles arrive in Morton order, which hands every scanline its texels left to right, a tile's
+// width at a time. Each scanline keeps the texels from the first column of its open segment on:
+// a new piece extends them, the segments they decide are fitted (fitDecided) and their texels
+// dropped. So what waits in memory is each scanline's open segment, not the map, and the
+// segments are those of fitting whole scanlines.
 class CompressedSmEncoder final : public Encoder {
  public:
-  explicit CompressedSmEncoder(const MapInfo& map) : map_(map) {}
+  explicit CompressedSmEncoder(const MapInfo& map) : map_(map), scanlines_(map.resolution) {}
 
   void consume(const DualDepthTile& tile, BuildContext& context) override {
-    context.phase("buffer and fit scanlines");
-    if (bandHeight_ == 0) {
-      bandHeight_ = tile.height;
-      fitted_.resize((map_.resolution + bandHeight_ - 1) / bandHeight_);
-    }
-    if (tile.height != bandHeight_ || tile.y0 % bandHeight_ != 0 ||
-        tile.x0 + tile.width > map_.resolution || tile.y0 + tile.height > map_.resolution)
-      throw std::invalid_argument("compressed-sm: tiles must be equal, aligned and in the map");
-    const uint32_t bandIndex = tile.y0 / bandHeight_;
-    Band& band = open_[bandIndex];
-    if (band.lo.empty()) {
-      band.lo.resize(size_t(bandHeight_) * map_.resolution);
-      band.hi.resize(band.lo.size());
-    }
-    peakBands_ = std::max<uint64_t>(peakBands_, open_.size());
-    for (uint32_t row = 0; row < tile.height; ++row) {
-      const size_t from = size_t(row) * tile.width, to = size_t(row) * map_.resolution + tile.x0;
-      std::copy_n(tile.lo.begin() + from, tile.width, band.lo.begin() + to);
-      std::copy_n(tile.hi.begin() + from, tile.width, band.hi.begin() + to);
-    }
-    band.columnsArrived += tile.width;
-    if (band.columnsArrived == map_.resolution) {
-      fitBand(band, fitted_[bandIndex]);
-      open_.erase(bandIndex);
-    }
+    context.phase("fit scanlines");
+    if (tile.x0 + tile.width > map_.resolution || tile.y0 + tile.height > map_.resolution)
+      throw std::invalid_argument("compressed-sm: a tile reaches outside the map");
+    std::vector<int64_t> pendingChange(tile.height);
+    tbb::parallel_for(uint32_t(0), tile.height, [&](uint32_t row) {
+      Scanline& scanline = scanlines_[tile.y0 + row];
+      if (scanline.arrived != tile.x0)
+        throw std::invalid_argument(fmt::format(
+            "compressed-sm: scanline {} received columns from {} after {} columns; tiles must "
+            "deliver each scanline left to right",
+            tile.y0 + row, tile.x0, scanline.arrived));
+      const int64_t before = int64_t(scanline.lo.size());
+      const size_t from = tile.index(tile.x0, tile.y0 + row);
+      scanline.lo.insert(scanline.lo.end(), tile.lo.begin() + from,
+                         tile.lo.begin() + from + tile.width);
+      scanline.hi.insert(scanline.hi.end(), tile.hi.begin() + from,
+                         tile.hi.begin() + from + tile.width);
+      scanline.arrived += tile.width;
+      const bool complete = scanline.arrived == map_.resolution;
+      const size_t fitted = fitDecided(scanline.lo, scanline.hi, scanline.first, complete,
+                                       scanline.segments, scanline.open);
+      scanline.lo.erase(scanline.lo.begin(), scanline.lo.begin() + fitted);
+      scanline.hi.erase(scanline.hi.begin(), scanline.hi.begin() + fitted);
+      scanline.first += uint32_t(fitted);
+      if (complete) {
+        std::vector<float>().swap(scanline.lo);
+        std::vector<float>().swap(scanline.hi);
+      }
+      pendingChange[row] = int64_t(scanline.lo.size()) - before;
+    });
+    for (int64_t change : pendingChange) pendingTexels_ += change;
+    peakPendingTexels_ = std::max(peakPendingTexels_, pendingTexels_);
   }
 
   std::unique_ptr<Decoder> finish(BuildContext& context) override {
     context.phase("concatenate scanlines");
-    if (!open_.empty() || bandHeight_ == 0)
-      throw std::logic_error("compressed-sm: the map did not arrive whole");
     std::vector<uint32_t> rowIndex{0};
     rowIndex.reserve(size_t(map_.resolution) + 1);
     Segments all;
-    for (FittedBand& band : fitted_) {
-      for (uint32_t count : band.rowCounts) {
-        if (uint64_t(rowIndex.back()) + count > std::numeric_limits<uint32_t>::max())
-          throw std::length_error("compressed-sm: more segments than a 32-bit row index holds");
-        rowIndex.push_back(rowIndex.back() + count);
-      }
-      all.firstColumns.insert(all.firstColumns.end(), band.segments.firstColumns.begin(),
-                              band.segments.firstColumns.end());
-      all.starts.insert(all.starts.end(), band.segments.starts.begin(), band.segments.starts.end());
-      all.slopes.insert(all.slopes.end(), band.segments.slopes.begin(), band.segments.slopes.end());
-      band = {};
+    for (Scanline& scanline : scanlines_) {
+      if (scanline.arrived != map_.resolution)
+        throw std::logic_error("compressed-sm: the map did not arrive whole");
+      const Segments& row = scanline.segments;
+      if (uint64_t(rowIndex.back()) + row.count() > std::numeric_limits<uint32_t>::max())
+        throw std::length_error("compressed-sm: more segments than a 32-bit row index holds");
+      rowIndex.push_back(rowIndex.back() + uint32_t(row.count()));
+      all.firstColumns.insert(all.firstColumns.end(), row.firstColumns.begin(),
+                              row.firstColumns.end());
+      all.starts.insert(all.starts.end(), row.starts.begin(), row.starts.end());
+      all.slopes.insert(all.slopes.end(), row.slopes.begin(), row.slopes.end());
+      scanline = {};
     }
-    if (rowIndex.size() != size_t(map_.resolution) + 1)
-      throw std::logic_error("compressed-sm: the map did not arrive whole");
     context.count("segments", all.count());
-    context.count("peak buffered bands", peakBands_);
+    context.count("peak pending texels", uint64_t(peakPendingTexels_));
     return std::make_unique<CompressedSmDecoder>(map_.resolution, std::move(rowIndex),
                                                  std::move(all));
   }
 
  private:
-  struct Band {
-    std::vector<float> lo, hi;
-    uint32_t columnsArrived = 0;
+  struct Scanline {
+    uint32_t arrived = 0;       // columns received
+    uint32_t first = 0;         // the column of lo[0], hi[0]: the open segment's first
+    std::vector<float> lo, hi;  // texels [first, arrived), not yet in a segment
+    OpenSegment open;           // the fit of the segment from column `first`
+    Segments segments;          // the segments fitted so far
   };
-  struct FittedBand {
-    std::vector<uint32_t> rowCounts;
-    Segments segments;
-  };
-
-  void fitBand(const Band& band, FittedBand& fitted) const {
-    const uint32_t rows = bandHeight_;
-    const size_t width = map_.resolution;
-    std::vector<Segments> perRow(rows);
-    tbb::parallel_for(uint32_t(0), rows, [&](uint32_t row) {
-      fitScanline(std::span(band.lo).subspan(row * width, width),
-                  std::span(band.hi).subspan(row * width, width), perRow[row]);
-    });
-    for (Segments& row : perRow) {
-      fitted.rowCounts.push_back(uint32_t(row.count()));
-      fitted.segments.firstColumns.insert(fitted.segments.firstColumns.end(),
-                                          row.firstColumns.begin(), row.firstColumns.end());
-      fitted.segments.starts.insert(fitted.segments.starts.end(), row.starts.begin(),
-                                    row.starts.end());
-      fitted.segments.slopes.insert(fitted.segments.slopes.end(), row.slopes.begin(),
-                                    row.slopes.end());
-    }
-  }
 
   MapInfo map_;
-  uint32_t bandHeight_ = 0;
-  std::map<uint32_t, Band> open_;  // bands still waiting for tiles, by band index
-  std::vector<FittedBand> fitted_;
-  uint64_t peakBands_ = 0;
+  std::vector<Scanline> scanlines_;
+  int64_t pendingTexels_ = 0, peakPendingTexels_ = 0;
 };
 
 [[noreturn]] void invalid(const std::string& what) {
@@ -268,8 +285,11 @@ SchemeInfo compressedSm() {
       "Arvo & Hirvikorpi 2005, compressed shadow maps: scanlines as piecewise-linear "
       "functions through the depth intervals";
   info.kind = SchemeKind::Depth;
+  // The open segments' texels: a row of 512² tiles' worth when segments are as short as tiles
+  // (long segments keep more, up to the texels of a scanline that has arrived), and the
+  // segments (not known ahead).
   info.buildBytes = [](const MapInfo& map, const Params&) {
-    return map.texelCount() * 4;  // lo/hi of up to R / 2 buffered rows
+    return uint64_t(map.resolution) * std::min(map.resolution, 512u) * 2 * sizeof(float);
   };
   info.makeEncoder = [](const MapInfo& map, const Params&) -> std::unique_ptr<Encoder> {
     return std::make_unique<CompressedSmEncoder>(map);

@@ -1,6 +1,7 @@
 // compressed-sm beside the shared matrix: exact lines become one segment per scanline, every
 // fitted depth lies in its interval in every mode, float rounding splits segments rather than
-// leaving a texel outside its interval, and the loader rejects an inconsistent row index.
+// leaving a texel outside its interval, fitting a scanline piece by piece as tiles deliver it
+// gives the segments of the whole scanline, and the loader rejects an inconsistent row index.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -84,6 +85,53 @@ TEST_CASE("compressed-sm: the structure does not depend on the tile size", "[com
   map.build(scheme, {}, 8)->save(a);
   map.build(scheme, {}, 64)->save(b);
   CHECK(a.bytes() == b.bytes());
+}
+
+TEST_CASE("compressed-sm: fitting a scanline piece by piece gives the whole scanline's segments",
+          "[compressed-sm]") {
+  // Long exact lines (terrain-like) and short noisy runs, cut into pieces of random widths, as
+  // the encoder receives them from tiles.
+  for (DepthMode mode : {DepthMode::Open, DepthMode::Closed})
+    for (uint64_t seed : {1u, 2u, 3u}) {
+      const uint32_t r = 512;
+      SyntheticMap map = SyntheticMap::random(r, mode, seed);
+      for (uint32_t i = 0; i < r; ++i) map.lo[i] = map.hi[i] = 0.25f + float(i) / 4096.0f;
+      uint64_t state = seed;
+      for (uint32_t j = 0; j < r; j += 37) {
+        const std::span lo(map.lo.data() + size_t(j) * r, r), hi(map.hi.data() + size_t(j) * r, r);
+        compressed_sm::Segments whole, pieces;
+        compressed_sm::fitScanline(lo, hi, whole);
+        std::vector<float> pendingLo, pendingHi;
+        compressed_sm::OpenSegment open;
+        uint32_t first = 0, arrived = 0;
+        while (arrived < r) {
+          const uint32_t width = std::min<uint32_t>(r - arrived, 1 + nextRandom(state) % 96);
+          pendingLo.insert(pendingLo.end(), lo.begin() + arrived, lo.begin() + arrived + width);
+          pendingHi.insert(pendingHi.end(), hi.begin() + arrived, hi.begin() + arrived + width);
+          arrived += width;
+          const size_t fitted =
+              compressed_sm::fitDecided(pendingLo, pendingHi, first, arrived == r, pieces, open);
+          pendingLo.erase(pendingLo.begin(), pendingLo.begin() + fitted);
+          pendingHi.erase(pendingHi.begin(), pendingHi.begin() + fitted);
+          first += uint32_t(fitted);
+        }
+        INFO(toString(mode) << " seed " << seed << " scanline " << j);
+        CHECK(pendingLo.empty());
+        CHECK(pieces.firstColumns == whole.firstColumns);
+        CHECK(pieces.starts == whole.starts);
+        CHECK(pieces.slopes == whole.slopes);
+      }
+    }
+}
+
+TEST_CASE("compressed-sm: scanlines must arrive left to right", "[compressed-sm]") {
+  const SchemeInfo& scheme = findScheme("compressed-sm");
+  const SyntheticMap map = SyntheticMap::random(16, DepthMode::Open, 2);
+  auto encoder = scheme.makeEncoder(map.info(scheme.kind), scheme.resolve({}));
+  testing::NullBuildContext context;
+  DualDepthTile tile;
+  tile.resize(8, 0, 8, 8);
+  CHECK_THROWS_WITH(encoder->consume(tile, context), Catch::Contains("left to right"));
 }
 
 TEST_CASE("compressed-sm: float rounding splits a segment instead of leaving a texel outside",
