@@ -1218,7 +1218,7 @@ def mh_lookup(records, args):
 
 # (scheme, what it is) in the tables' order: the float map, the map codecs, the voxel schemes,
 # the MH family. Each at its registry defaults (the parameters below, as compare-size.sh passes
-# them); a scheme without records (openvdb before it lands) keeps its row, with "–".
+# them); a scheme without records keeps its row, with "–".
 COMPARE_SCHEMES = [
     ("sm32", "float32 shadow map"),
     ("compressed-sm", "Arvo & Hirvikorpi 2005, piecewise-linear scanlines"),
@@ -1239,8 +1239,7 @@ COMPARE_FILTERS = (1, 9)
 # compare-size.sh builds these (scheme, scene, mode) only up to a resolution, for memory.
 COMPARE_CAPPED = {
     **{(scheme, s, m): 16 * K for scheme in ("sm32", "openvdb") for s, m in COMPARE_BUILDS},
-    **{(scheme, s, m): 32 * K for scheme in ("sm-zstd", "compressed-sm")
-       for s, m in COMPARE_BUILDS},
+    **{("sm-zstd", s, m): 32 * K for s, m in COMPARE_BUILDS},
     **{(scheme, s, "open"): 8 * K for scheme in ("mh", "mmh", "dag-mh")
        for s in ("city", "terrain")},
 }
@@ -1251,15 +1250,14 @@ COMPARE_CAP_NOTE = (
     "4K² and 147 MiB at 8K² (×3.9 per doubling, the same on both scenes and in both modes, as it "
     "stores `lo` only), so about 2.1 GiB at 32K² and 8.3 GiB at 64K², and its build holds the "
     "blocks' frames and their concatenation at once (peak 1.5–2.3× the result above the "
-    "baseline at 8K²): 17–19 GiB at 64K². `compressed-sm` up to 32K²: its encoder buffers `lo` "
-    "and `hi` of each band of tile rows until the band is complete, in Morton tile order half "
-    "the map at once, 4·R² bytes (4 GiB at 32K², 16 GiB at 64K²) besides the segments (city "
-    "open 98 MiB at 8K², ×3.8 per doubling: 1.4 GiB at 32K², 5.3 GiB at 64K²). `mh`, `mmh`, "
+    "baseline at 8K²): 17–19 GiB at 64K². `mh`, `mmh`, "
     "`dag-mh` open up to 8K²: the ground is a point interval of changing depth, so the hierarchy "
     "keeps about a node per texel (mh 70 MiB at 4K², ×4 per doubling) and `mmh` peaks at "
     "5.3 GiB at 8K² on city (1.6 GiB at 4K² on terrain, as on city), over 20 GiB at 16K². "
-    "`openvdb` up to 16K²: 0.92 GiB at 8K² on city closed, 1.07 GiB open (×4.2 per doubling from "
-    "2K²; terrain 0.40 and 0.84 GiB), so about 4.4 GiB at 16K² and 18 GiB at 32K².")
+    "`openvdb` up to 16K²: 3.7 GiB at 16K² on city closed and 4.5 GiB open, ×4.1 per doubling "
+    "(no subtree is shared, and every lower node touched holds a dense 33 KiB table), so about "
+    "15 and 18 GiB at 32K² and 60 GiB at 64K²; its encoder stops past 3/4 of the machine's "
+    "memory.")
 
 
 def compare_cells(records, scheme, scene, mode):
@@ -1280,8 +1278,7 @@ def compare_columns(records, builds, wanted, args):
 def compare_note(scheme, scene, mode, cells, columns):
     """What a row's empty cells mean: a cap of compare-size.sh, or no records at all."""
     if not cells:
-        return "; no records" + ("; swept once shadowbench registers it" if scheme == "openvdb"
-                                 else "")
+        return "; no records"
     return cap_note(scheme, scene, mode, cells, columns, COMPARE_CAPPED).replace(", ", "; ", 1)
 
 
