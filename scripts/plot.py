@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Plots shadowbench build records: size and build time against resolution.
 
-    python3 scripts/plot.py RECORDS_DIR [--out DIR]
+    python3 scripts/plot.py RECORDS_DIR [--out DIR] [--schemes a,b] [--param NAME=VALUE ...]
 
 Reads every complete record (*.json, recursively) under RECORDS_DIR — the same validity rule
 as the harness: "format" is "shadowbench-record/1", "complete" is true, and the fields the
@@ -85,6 +85,18 @@ def variant_order(label):
     return (name != BASELINE, name, natural_key(label))
 
 
+def selected(record, schemes, params):
+    """Whether --schemes and --param keep `record`: its scheme is listed (or none are), and each
+    given parameter it has holds the given value."""
+    scheme = record["scheme"]
+    if schemes is not None and scheme["name"] not in schemes:
+        return False
+    have = scheme.get("params") or {}
+    if not isinstance(have, dict):
+        return True
+    return all(str(have[name]) == value for name, value in params.items() if name in have)
+
+
 def group_records(records):
     """{(scene, light, mode): {variant label: {resolution: record}}}, newest record per cell."""
     groups = {}
@@ -122,7 +134,7 @@ def plot_group(plt, NullLocator, key, variants, out_dir):
     written = []
 
     def new_axes(title, ylabel):
-        figure, axes = plt.subplots(figsize=(8, 5.5))
+        figure, axes = plt.subplots(figsize=(11, 5.5))
         axes.set_xscale("log", base=2)
         axes.set_yscale("log")
         axes.set_xticks(resolutions)
@@ -135,7 +147,8 @@ def plot_group(plt, NullLocator, key, variants, out_dir):
         return figure, axes
 
     def save(figure, axes, name):
-        axes.legend(fontsize="small", loc="best")
+        # Beside the axes: with many schemes a legend inside hides lines.
+        axes.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.02, 1))
         figure.tight_layout()
         path = out_dir / f"{name}_{stem}.png"
         figure.savefig(path, dpi=120)
@@ -172,15 +185,28 @@ def main():
                                                  "from shadowbench build records.")
     parser.add_argument("records", type=Path, help="folder of JSON records (searched recursively)")
     parser.add_argument("--out", type=Path, help="folder for the PNGs (default: RECORDS/plots)")
+    parser.add_argument("--schemes", help="comma-separated schemes to plot (default: all)")
+    parser.add_argument("--param", "-p", action="append", default=[], metavar="NAME=VALUE",
+                        help="keep a record only if its scheme, where it has parameter NAME, "
+                             "has VALUE (repeatable; as 'shadowbench sweep --param' selects)")
     args = parser.parse_args()
+    wanted_params = {}
+    for text in args.param:
+        name, equals, value = text.partition("=")
+        if not equals or not name:
+            sys.exit(f"plot.py: --param '{text}' is not NAME=VALUE")
+        wanted_params[name] = value
+    wanted_schemes = set(args.schemes.split(",")) if args.schemes else None
 
     if not args.records.is_dir():
         sys.exit(f"plot.py: '{args.records}' is not a folder of records")
     records, skipped = read_records(args.records)
     if skipped:
         print(f"plot.py: skipped {len(skipped)} file(s) that are not complete records", file=sys.stderr)
+    records = [r for r in records if selected(r, wanted_schemes, wanted_params)]
     if not records:
-        sys.exit(f"plot.py: no complete shadowbench records (*.json) under '{args.records}'")
+        sys.exit(f"plot.py: no complete shadowbench records (*.json) under '{args.records}'"
+                 + (" of the selected schemes and parameters" if args.schemes or args.param else ""))
 
     # Imported here so that a missing matplotlib reports itself after the cheap checks.
     try:

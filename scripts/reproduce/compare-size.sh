@@ -5,7 +5,8 @@
 # map (4·R² bytes). Some cells are capped for memory (this machine: 2 cores, 24 GiB, shared; no
 # cell may peak above about 16 GiB): `sm32` up to 16K² (4·R² bytes, which is the analytic row),
 # `openvdb` up to 16K², `sm-zstd` up to 32K², `mh`, `mmh` and `dag-mh` open
-# up to 8K² (a node per texel); the caps are explained below and in the table.
+# up to 8K² (a node per texel); the caps are explained below and in the table. Also plots the
+# same cells (scripts/plot.py) into results/reproduce/compare-size/plots.
 #   scripts/reproduce/compare-size.sh [--max-resolution 64K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
@@ -45,4 +46,9 @@ sweep --schemes sm-zstd "${zstd[@]}" --scenes "$scenes" --modes closed,open \
 sweep --schemes compressed-sm --scenes "$scenes" --modes closed,open --resolutions "$(resolutions 4K)"
 sweep --schemes sm32 --scenes "$scenes" --modes closed,open --resolutions "$up_to_16k"
 sweep --schemes openvdb --scenes "$scenes" --modes closed,open --resolutions "$up_to_16k"
+# The same cells plotted, size and build time against resolution (one PNG pair per scene and
+# mode the records hold), into results/reproduce/compare-size/plots.
+/usr/bin/python3 scripts/plot.py "$records" --out "$out/$table/plots" \
+  --schemes sm32,compressed-sm,sm-zstd,openvdb,cpvs,cpvs-fast,mh,mmh,dag-mh \
+  "${mh_family[@]}" "${voxel[@]}" "${zstd[@]}" >/dev/null
 tabulate
