@@ -6,13 +6,16 @@
 #include <atomic>
 #include <bit>
 #include <cstring>
+#include <map>
 #include <new>
 #include <unordered_map>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 #include <zstd.h>
 
 #include "schemes/interface/depth_decoder.h"
+#include "schemes/interface/morton.h"
 #include "schemes/interface/serial.h"
 
 namespace sb {
@@ -101,7 +104,7 @@ class SmZstdDecoder final : public DepthDecoder<SmZstdDecoder> {
   uint32_t resolution() const { return resolution_; }
 
   float depth(uint32_t i, uint32_t j) const {
-    const uint64_t block = uint64_t(j / blockSide_) * blocksPerRow_ + i / blockSide_;
+    const uint64_t block = mortonCode(i / blockSide_, j / blockSide_);
     const std::vector<float>& texels = decodedBlock(block);
     return texels[size_t(j % blockSide_) * blockSide_ + i % blockSide_];
   }
@@ -140,57 +143,71 @@ class SmZstdDecoder final : public DepthDecoder<SmZstdDecoder> {
   }
 
   uint32_t resolution_, blockSide_, blocksPerRow_;
-  std::vector<uint64_t> offsets_;  // block b's frame is blocks_[offsets_[b], offsets_[b + 1])
+  // Blocks in Morton order of their (column, row): block m's frame is
+  // blocks_[offsets_[m], offsets_[m + 1]).
+  std::vector<uint64_t> offsets_;
   std::vector<uint8_t> blocks_;
   uint64_t id_;
 };
 
+// The frames are laid out in Morton order of the blocks, the order in which the harness's
+// Morton-ordered tiles complete them, so each frame is appended to the final array as soon as
+// its block is compressed: the build holds the compressed map once, never a copy of it.
 class SmZstdEncoder final : public Encoder {
  public:
   SmZstdEncoder(const MapInfo& map, uint32_t blockSide, int level)
-      : map_(map),
-        blockSide_(blockSide),
-        blocksPerRow_(map.resolution / blockSide),
-        level_(level),
-        frames_(size_t(blocksPerRow_) * blocksPerRow_) {}
+      : map_(map), blockSide_(blockSide), blocksPerRow_(map.resolution / blockSide), level_(level) {
+    offsets_.reserve(uint64_t(blocksPerRow_) * blocksPerRow_ + 1);
+    offsets_.push_back(0);
+    // Frames never exceed the bound of the raw map, and pages reserved but never written cost
+    // no memory: with no reallocation, no copy of the frames ever exists.
+    blocks_.reserve(ZSTD_compressBound(map.texelCount() * sizeof(float)));
+  }
 
-  // A tile may hold several blocks or part of one: texels gather in a block's buffer and the
-  // block is compressed once all of it has arrived, so with Morton-ordered tiles only the blocks
-  // a tile boundary cuts through wait in memory.
+  // A tile may hold several blocks or part of one: texels gather in a block's buffer, and the
+  // blocks complete are compressed at the end of the tile (in parallel) and laid out in Morton
+  // order. A block that
+  // completes before one earlier in Morton order (another tiling) waits for it, compressed.
   void consume(const DualDepthTile& tile, BuildContext&) override {
+    std::vector<uint64_t> completed;
     for (uint32_t row = 0; row < tile.height; ++row) {
       const uint32_t j = tile.y0 + row;
       for (uint32_t i = tile.x0; i < tile.x0 + tile.width;) {
         const uint32_t end = std::min(tile.x0 + tile.width, (i / blockSide_ + 1) * blockSide_);
-        const uint64_t block = uint64_t(j / blockSide_) * blocksPerRow_ + i / blockSide_;
+        const uint64_t block = mortonCode(i / blockSide_, j / blockSide_);
         PartialBlock& partial = partials_[block];
         if (partial.texels.empty()) partial.texels.resize(size_t(blockSide_) * blockSide_);
         std::copy_n(tile.lo.begin() + tile.index(i, j), end - i,
                     partial.texels.begin() + size_t(j % blockSide_) * blockSide_ + i % blockSide_);
         partial.arrived += end - i;
-        if (partial.arrived == partial.texels.size()) {
-          compress(block, partial.texels);
-          partials_.erase(block);
-        }
+        if (partial.arrived == partial.texels.size()) completed.push_back(block);
         i = end;
       }
+    }
+    std::sort(completed.begin(), completed.end());
+    std::vector<std::vector<uint8_t>> frames(completed.size());
+    tbb::parallel_for(size_t(0), completed.size(), [&](size_t b) {
+      frames[b] = compress(completed[b], partials_.at(completed[b]).texels);
+    });
+    for (size_t b = 0; b < completed.size(); ++b) {
+      waiting_[completed[b]] = std::move(frames[b]);
+      partials_.erase(completed[b]);
+    }
+    while (!waiting_.empty() && waiting_.begin()->first == offsets_.size() - 1) {
+      const std::vector<uint8_t>& frame = waiting_.begin()->second;
+      blocks_.insert(blocks_.end(), frame.begin(), frame.end());
+      offsets_.push_back(blocks_.size());
+      waiting_.erase(waiting_.begin());
     }
   }
 
   std::unique_ptr<Decoder> finish(BuildContext& context) override {
-    if (!partials_.empty())
-      throw std::logic_error(
-          fmt::format("{}: {} blocks never received all their texels", kScheme, partials_.size()));
-    std::vector<uint64_t> offsets{0};
-    std::vector<uint8_t> blocks;
-    for (std::vector<uint8_t>& frame : frames_) {
-      blocks.insert(blocks.end(), frame.begin(), frame.end());
-      offsets.push_back(blocks.size());
-      std::vector<uint8_t>().swap(frame);
-    }
-    context.count("compressed bytes", blocks.size());
-    return std::make_unique<SmZstdDecoder>(map_.resolution, blockSide_, std::move(offsets),
-                                           std::move(blocks));
+    if (!partials_.empty() || !waiting_.empty() ||
+        offsets_.size() != uint64_t(blocksPerRow_) * blocksPerRow_ + 1)
+      throw std::logic_error(fmt::format("{}: not every block received all its texels", kScheme));
+    context.count("compressed bytes", blocks_.size());
+    return std::make_unique<SmZstdDecoder>(map_.resolution, blockSide_, std::move(offsets_),
+                                           std::move(blocks_));
   }
 
  private:
@@ -199,23 +216,24 @@ class SmZstdEncoder final : public Encoder {
     size_t arrived = 0;
   };
 
-  void compress(uint64_t block, std::span<const float> texels) {
-    std::vector<uint8_t>& frame = frames_[block];
-    frame.resize(ZSTD_compressBound(texels.size_bytes()));
+  std::vector<uint8_t> compress(uint64_t block, std::span<const float> texels) const {
+    std::vector<uint8_t> frame(ZSTD_compressBound(texels.size_bytes()));
     const size_t bytes =
         ZSTD_compress(frame.data(), frame.size(), texels.data(), texels.size_bytes(), level_);
     if (ZSTD_isError(bytes))
       throw std::runtime_error(
           fmt::format("{}: zstd failed on block {}: {}", kScheme, block, ZSTD_getErrorName(bytes)));
     frame.resize(bytes);
-    frame.shrink_to_fit();
+    return frame;
   }
 
   MapInfo map_;
   uint32_t blockSide_, blocksPerRow_;
   int level_;
-  std::unordered_map<uint64_t, PartialBlock> partials_;
-  std::vector<std::vector<uint8_t>> frames_;  // per block, in block order
+  std::unordered_map<uint64_t, PartialBlock> partials_;  // by Morton index
+  std::map<uint64_t, std::vector<uint8_t>> waiting_;     // compressed, awaiting earlier blocks
+  std::vector<uint64_t> offsets_;
+  std::vector<uint8_t> blocks_;
 };
 
 SchemeInfo smZstd() {
@@ -231,8 +249,7 @@ SchemeInfo smZstd() {
                   {},
                   {"32", "64", "128", "256"}},
                  {"level", "zstd compression level", "3", 1, 19, {}, {"1", "3", "9", "19"}}};
-  // The compressed frames stay below the raw map; blocks in flight add at most a few rows of
-  // blocks, bounded here by one row of them.
+  // The compressed frames stay below the raw map; blocks in flight add at most a row of them.
   info.buildBytes = [](const MapInfo& map, const Params& params) {
     const uint64_t side = blockSideOf(findScheme(kScheme), params, map.resolution);
     return map.texelCount() * sizeof(float) + uint64_t(map.resolution) * side * sizeof(float);
