@@ -4,7 +4,7 @@
 # and terrain, closed and open, 4K² to --max-resolution in MiB, beside the uncompressed float32
 # map (4·R² bytes). Some cells are capped for memory (this machine: 2 cores, 24 GiB, shared; no
 # cell may peak above about 16 GiB): `sm32` up to 16K² (4·R² bytes, which is the analytic row),
-# `openvdb` up to 16K², `sm-zstd` up to 32K², `mh`, `mmh` and `dag-mh` open
+# `openvdb` up to 16K², `mh`, `mmh` and `dag-mh` open
 # up to 8K² (a node per texel); the caps are explained below and in the table. Also plots the
 # same cells (scripts/plot.py) into results/reproduce/compare-size/plots.
 #   scripts/reproduce/compare-size.sh [--max-resolution 64K] [sweep options]
@@ -19,13 +19,9 @@ voxel=(--param grid-levels=0 --param leaf-layout=slab8 --param culling=on
 zstd=(--param block=64 --param level=3)
 scenes=city:full,terrain:full
 
-# Caps (estimates from the 4K² and 8K² records):
+# Caps (estimates from the records below the cap):
 # - sm32 up to 16K²: the map is 4·R² bytes (4 GiB at 32K², 16 GiB at 64K²), exactly the analytic
 #   row, so larger cells add nothing to a size table.
-# - sm-zstd up to 32K²: 37.8 MiB at 4K², 147 MiB at 8K² (×3.9 per doubling; the same in every
-#   mode and on both scenes, as it stores `lo` only), so about 2.1 GiB at 32K² and 8.3 GiB at
-#   64K². The build holds the per-block frames and their concatenation at once (peak 1.5–2.3× the
-#   result above the baseline at 8K²), so 64K² would peak at 17–19 GiB.
 # - mh, mmh, dag-mh open up to 8K²: the ground is a point interval of changing depth, so the
 #   hierarchy keeps about a node per texel (mh 70 MiB at 4K², ×4 per doubling) and mmh's build
 #   peaks at 5.3 GiB at 8K² on city (1.6 GiB at 4K² on terrain, as on city): over 20 GiB at 16K².
@@ -33,7 +29,6 @@ scenes=city:full,terrain:full
 #   subtree is shared, and every lower node touched holds a dense 33 KiB table), so about 15 and
 #   18 GiB at 32K² and 60 GiB at 64K²; its encoder stops past 3/4 of the machine's memory.
 up_to_16k=$(capped 16K 4K)
-up_to_32k=$(capped 32K 4K)
 up_to_8k=$(capped 8K 4K)
 sweep --schemes cpvs,cpvs-fast "${voxel[@]}" --scenes "$scenes" --modes closed,open \
   --resolutions "$(resolutions 4K)"
@@ -42,7 +37,7 @@ sweep --schemes mh,mmh,dag-mh "${mh_family[@]}" --scenes "$scenes" --modes close
 sweep --schemes mh,mmh,dag-mh "${mh_family[@]}" --scenes "$scenes" --modes open \
   --resolutions "$up_to_8k"
 sweep --schemes sm-zstd "${zstd[@]}" --scenes "$scenes" --modes closed,open \
-  --resolutions "$up_to_32k"
+  --resolutions "$(resolutions 4K)"
 sweep --schemes compressed-sm --scenes "$scenes" --modes closed,open --resolutions "$(resolutions 4K)"
 sweep --schemes sm32 --scenes "$scenes" --modes closed,open --resolutions "$up_to_16k"
 sweep --schemes openvdb --scenes "$scenes" --modes closed,open --resolutions "$up_to_16k"

@@ -1239,18 +1239,13 @@ COMPARE_FILTERS = (1, 9)
 # compare-size.sh builds these (scheme, scene, mode) only up to a resolution, for memory.
 COMPARE_CAPPED = {
     **{(scheme, s, m): 16 * K for scheme in ("sm32", "openvdb") for s, m in COMPARE_BUILDS},
-    **{("sm-zstd", s, m): 32 * K for s, m in COMPARE_BUILDS},
     **{(scheme, s, "open"): 8 * K for scheme in ("mh", "mmh", "dag-mh")
        for s in ("city", "terrain")},
 }
 COMPARE_CAP_NOTE = (
     "Caps, for memory (2 cores, 24 GiB, shared: no cell may peak above about 16 GiB; those "
-    "cells print –), estimated from the 4K² and 8K² records: `sm32` up to 16K², as it holds "
-    "4·R² bytes (16 GiB at 64K²), which is the analytic row. `sm-zstd` up to 32K²: 37.8 MiB at "
-    "4K² and 147 MiB at 8K² (×3.9 per doubling, the same on both scenes and in both modes, as it "
-    "stores `lo` only), so about 2.1 GiB at 32K² and 8.3 GiB at 64K², and its build holds the "
-    "blocks' frames and their concatenation at once (peak 1.5–2.3× the result above the "
-    "baseline at 8K²): 17–19 GiB at 64K². `mh`, `mmh`, "
+    "cells print –), estimated from the records below the cap: `sm32` up to 16K², as it holds "
+    "4·R² bytes (16 GiB at 64K²), which is the analytic row. `mh`, `mmh`, "
     "`dag-mh` open up to 8K²: the ground is a point interval of changing depth, so the hierarchy "
     "keeps about a node per texel (mh 70 MiB at 4K², ×4 per doubling) and `mmh` peaks at "
     "5.3 GiB at 8K² on city (1.6 GiB at 4K² on terrain, as on city), over 20 GiB at 16K². "
