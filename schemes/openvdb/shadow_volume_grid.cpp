@@ -37,6 +37,10 @@ using Leaf = ShadowTree::LeafNodeType;
 using openvdb::Coord;
 using Volume = BlockPyramid::Volume;
 
+// The voxels per side of each node, as values (OpenVDB's DIM members are declared, not defined,
+// so std::min could not take them by reference).
+constexpr uint32_t kLeafSide = Leaf::DIM, kLowerSide = LowerNode::DIM, kUpperSide = UpperNode::DIM;
+
 Coord voxelCoord(uint32_t x, uint32_t y, uint32_t z) {
   return Coord(int32_t(x), int32_t(y), int32_t(z));
 }
@@ -163,7 +167,7 @@ std::vector<LowerVolume> lowerColumn(uint32_t x0, uint32_t y0, uint32_t side,
                                      const std::vector<SliceInterval>& intervals,
                                      uint32_t depthResolution) {
   const BlockPyramid pyramid = BlockPyramid::over(intervals, side);
-  const uint32_t lowerSide = std::min<uint32_t>(LowerNode::DIM, depthResolution);
+  const uint32_t lowerSide = std::min<uint32_t>(kLowerSide, depthResolution);
   std::vector<LowerVolume> column(depthResolution / lowerSide);
   for (uint32_t n = 0; n < column.size(); ++n) {
     const uint32_t z0 = n * lowerSide;
@@ -172,11 +176,11 @@ std::vector<LowerVolume> lowerColumn(uint32_t x0, uint32_t y0, uint32_t side,
     // A mixed volume holds both lit and shadowed voxels, so by the parent rule its undefined
     // children become shadowed, and so do the undefined voxels of its mixed leaves.
     auto node = std::make_unique<LowerNode>(voxelCoord(x0, y0, z0), false);
-    for (uint32_t ly = 0; ly < side; ly += Leaf::DIM)
-      for (uint32_t lx = 0; lx < side; lx += Leaf::DIM)
-        for (uint32_t lz = z0; lz < z0 + lowerSide; lz += Leaf::DIM) {
+    for (uint32_t ly = 0; ly < side; ly += kLeafSide)
+      for (uint32_t lx = 0; lx < side; lx += kLeafSide)
+        for (uint32_t lz = z0; lz < z0 + lowerSide; lz += kLeafSide) {
           const Coord origin = voxelCoord(x0 + lx, y0 + ly, lz);
-          const Volume kind = pyramid.classify(lx, ly, Leaf::DIM, lz, lz + Leaf::DIM - 1);
+          const Volume kind = pyramid.classify(lx, ly, kLeafSide, lz, lz + kLeafSide - 1);
           if (kind == Volume::Lit) continue;
           if (kind != Volume::Mixed) {
             node->addTile(LowerNode::coordToOffset(origin), true, true);
@@ -184,9 +188,9 @@ std::vector<LowerVolume> lowerColumn(uint32_t x0, uint32_t y0, uint32_t side,
           }
           // Leaf offsets are x·64 + y·8 + z: mask word dx holds a byte of slices per dy.
           auto leaf = std::make_unique<Leaf>(origin, false);
-          for (uint32_t dx = 0; dx < Leaf::DIM; ++dx) {
+          for (uint32_t dx = 0; dx < kLeafSide; ++dx) {
             uint64_t word = 0;
-            for (uint32_t dy = 0; dy < Leaf::DIM; ++dy) {
+            for (uint32_t dy = 0; dy < kLeafSide; ++dy) {
               const SliceInterval& interval = intervals[size_t(ly + dy) * side + lx + dx];
               const int64_t litSlices = std::clamp<int64_t>(int64_t(interval.litEnd) - lz, 0, 8);
               word |= uint64_t((0xffu << litSlices) & 0xffu) << (8 * dy);
@@ -208,8 +212,8 @@ class ShadowGridEncoder final : public Encoder {
  public:
   explicit ShadowGridEncoder(const MapInfo& map)
       : resolution_(map.resolution),
-        columnSide_(std::min<uint32_t>(LowerNode::DIM, map.resolution)),
-        upperSide_(std::min<uint32_t>(UpperNode::DIM, map.resolution)),
+        columnSide_(std::min<uint32_t>(kLowerSide, map.resolution)),
+        upperSide_(std::min<uint32_t>(kUpperSide, map.resolution)),
         memoryLimit_(uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE)) / 4 * 3),
         tree_(std::make_unique<ShadowTree>(false)) {
     if (!validResolution(map.resolution) || map.depthResolution != map.resolution)
@@ -288,12 +292,11 @@ class ShadowGridEncoder final : public Encoder {
   };
 
   static uint64_t upperKey(uint32_t x, uint32_t y, uint32_t z) {
-    return uint64_t(z / UpperNode::DIM) << 40 | uint64_t(y / UpperNode::DIM) << 20 |
-           x / UpperNode::DIM;
+    return uint64_t(z / kUpperSide) << 40 | uint64_t(y / kUpperSide) << 20 | x / kUpperSide;
   }
 
   void addColumn(uint32_t x0, uint32_t y0, std::vector<LowerVolume>& column) {
-    const uint32_t lowerSide = std::min<uint32_t>(LowerNode::DIM, resolution_);
+    const uint32_t lowerSide = std::min<uint32_t>(kLowerSide, resolution_);
     for (uint32_t n = 0; n < column.size(); ++n) {
       const uint32_t z0 = n * lowerSide;
       UpperChildren& upper = uppers_[upperKey(x0, y0, z0)];
@@ -310,7 +313,7 @@ class ShadowGridEncoder final : public Encoder {
           break;
         case Volume::Mixed:
           if (!upper.node) {
-            upper.node = std::make_unique<UpperNode>(origin & ~(UpperNode::DIM - 1), false);
+            upper.node = std::make_unique<UpperNode>(origin & ~(kUpperSide - 1), false);
             census_.upperNodes++;
           }
           census_.leaves += column[n].node->getChildMask().countOn();
@@ -405,13 +408,13 @@ std::unique_ptr<Decoder> loadShadowGrid(ByteReader& in, const MapInfo& map) {
       add(voxelCoord(x, y, z), e / 3);
     }
   };
-  origins(listing.rootTiles, UpperNode::DIM, "root tile",
+  origins(listing.rootTiles, kUpperSide, "root tile",
           [&](const Coord& c, size_t) { tree->root().addTile(c, true, true); });
-  origins(listing.upperTiles, LowerNode::DIM, "upper node tile",
+  origins(listing.upperTiles, kLowerSide, "upper node tile",
           [&](const Coord& c, size_t) { tree->root().addTile(2, c, true, true); });
-  origins(listing.lowerTiles, Leaf::DIM, "lower node tile",
+  origins(listing.lowerTiles, kLeafSide, "lower node tile",
           [&](const Coord& c, size_t) { tree->root().addTile(1, c, true, true); });
-  origins(listing.leafOrigins, Leaf::DIM, "leaf", [&](const Coord& c, size_t l) {
+  origins(listing.leafOrigins, kLeafSide, "leaf", [&](const Coord& c, size_t l) {
     auto leaf = std::make_unique<Leaf>(c, false);
     for (openvdb::Index w = 0; w < Leaf::NodeMaskType::WORD_COUNT; ++w)
       leaf->getValueMask().getWord<uint64_t>(w) =
@@ -434,7 +437,7 @@ SchemeInfo openvdbScheme() {
   // Columns of texels in flight: at most a row of 128² columns across the map, as slice
   // intervals. The tree is the build's output, guarded as it grows.
   info.buildBytes = [](const MapInfo& map, const Params&) {
-    return uint64_t(map.resolution) * LowerNode::DIM * sizeof(SliceInterval) + (uint64_t(64) << 20);
+    return uint64_t(map.resolution) * kLowerSide * sizeof(SliceInterval) + (uint64_t(64) << 20);
   };
   info.makeEncoder = [](const MapInfo& map, const Params&) -> std::unique_ptr<Encoder> {
     return std::make_unique<ShadowGridEncoder>(map);
