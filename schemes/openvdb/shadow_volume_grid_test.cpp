@@ -30,13 +30,6 @@ uint64_t component(const Decoder& decoder, const std::string& name) {
   return 0;
 }
 
-SyntheticMap uniformMap(uint32_t resolution, float lo, float hi) {
-  SyntheticMap map{resolution, DepthMode::Closed, {}, {}};
-  map.lo.assign(size_t(resolution) * resolution, lo);
-  map.hi.assign(map.lo.size(), hi);
-  return map;
-}
-
 TEST_CASE("openvdb builds the same tree from any tiling", "[openvdb]") {
   const SchemeInfo& scheme = findScheme("openvdb");
   for (DepthMode mode : {DepthMode::Open, DepthMode::Closed}) {
@@ -56,14 +49,14 @@ TEST_CASE("openvdb stores homogeneous volumes as tiles", "[openvdb]") {
   // masks (a bit per entry each) and the origin.
   constexpr uint64_t kUpperNodeBytes = 32768 * 8 + 2 * 32768 / 8 + 12;
   SECTION("lit and undefined space only: the tree is empty") {
-    const auto decoder = uniformMap(256, 0.3f, kInf).build(scheme, {}, 64);
+    const auto decoder = SyntheticMap::uniform(256, 0.3f, kInf).build(scheme, {}, 64);
     CHECK(component(*decoder, "upper internal nodes") == 0);
     CHECK(component(*decoder, "leaves") == 0);
   }
   SECTION("a shadowed half: one upper node of 128³ tiles, no lower nodes or leaves") {
     // Lit below slice 77, undefined to slice 128, shadowed after: the undefined band joins the
     // lit lower volumes by the parent rule, the shadowed ones are tiles.
-    const auto decoder = uniformMap(256, 0.3f, 0.5f).build(scheme, {}, 64);
+    const auto decoder = SyntheticMap::uniform(256, 0.3f, 0.5f).build(scheme, {}, 64);
     CHECK(component(*decoder, "upper internal nodes") == kUpperNodeBytes);
     CHECK(component(*decoder, "lower internal nodes") == 0);
     CHECK(component(*decoder, "leaves") == 0);
@@ -74,7 +67,7 @@ TEST_CASE("openvdb stores homogeneous volumes as tiles", "[openvdb]") {
     CHECK(answers[1] == 1.0f);
   }
   SECTION("a boundary inside a leaf's slices: one leaf per 8×8 texels") {
-    const auto decoder = uniformMap(64, 20.3f / 64, 20.3f / 64).build(scheme, {}, 64);
+    const auto decoder = SyntheticMap::uniform(64, 20.3f / 64, 20.3f / 64).build(scheme, {}, 64);
     CHECK(component(*decoder, "leaves") == (64 / 8) * (64 / 8) * 80);  // 80 bytes per leaf
   }
 }

@@ -104,13 +104,6 @@ std::vector<Params> sweepCombinations(const SchemeInfo& scheme) {
   return combinations;
 }
 
-SyntheticMap uniformMap(uint32_t resolution, float lo, float hi) {
-  SyntheticMap map{resolution, DepthMode::Closed, {}, {}};
-  map.lo.assign(size_t(resolution) * resolution, lo);
-  map.hi.assign(map.lo.size(), hi);
-  return map;
-}
-
 TEST_CASE("slice intervals count the voxel centres at or before a depth", "[voxel]") {
   uint64_t state = 7;
   for (uint32_t rz : {8u, 64u, 1024u, 65536u}) {
@@ -163,13 +156,13 @@ TEST_CASE("awkward maps: undefined columns, tile-border boundaries, an empty lig
       undefinedColumns.lo[size_t(j) * r + i] = 0.0f;
       undefinedColumns.hi[size_t(j) * r + i] = 1.0f;
     }
-  SyntheticMap tileBorders = uniformMap(r, 0.25f, 0.25f);
+  SyntheticMap tileBorders = SyntheticMap::uniform(r, 0.25f, 0.25f);
   for (uint32_t j = 0; j < r; ++j)
     for (uint32_t i = 0; i < r; ++i)
       if ((i / tile + j / tile) % 2)
         tileBorders.lo[size_t(j) * r + i] = tileBorders.hi[size_t(j) * r + i] = 0.75f;
-  const SyntheticMap empty = uniformMap(r, 1.0f, kInf);
-  const SyntheticMap solid = uniformMap(r, 0.0f, 0.0f);
+  const SyntheticMap empty = SyntheticMap::uniform(r, 1.0f, kInf);
+  const SyntheticMap solid = SyntheticMap::uniform(r, 0.0f, 0.0f);
 
   for (const SchemeInfo* scheme : voxelSchemes()) {
     INFO(scheme->name);
@@ -180,7 +173,7 @@ TEST_CASE("awkward maps: undefined columns, tile-border boundaries, an empty lig
       CHECK(mismatches(*uniform, *decoder, 3) == 0);
       // A homogeneous map needs no node, whatever its resolution; in CPVS it is one reference
       // in the grid.
-      const SyntheticMap larger = uniformMap(4 * r, uniform->lo[0], uniform->hi[0]);
+      const SyntheticMap larger = SyntheticMap::uniform(4 * r, uniform->lo[0], uniform->hi[0]);
       CHECK(totalBytes(decoder->size()) == totalBytes(larger.build(*scheme, {}, tile)->size()));
       if (readsVoxelOccupancy(*decoder)) CHECK(totalBytes(decoder->size()) == sizeof(DagRef));
     }

@@ -63,6 +63,15 @@ capped() {
   resolutions "${@:2}"
 }
 
+# The registry defaults of each family's parameters, for the sweeps of those schemes (sweep
+# refuses a parameter that none of its schemes has): given explicitly, a cell stays the one the
+# other tables build (a record's file name carries its parameters) if a default changes.
+mh_family_defaults=(--param search-distance=1000 --param treelet-height=4 --param chunk-size=32
+  --param skip-level=6)
+voxel_dag_defaults=(--param grid-levels=0 --param leaf-layout=slab8 --param culling=on
+  --param transitions=aligned)
+sm_zstd_defaults=(--param block=64 --param level=3)
+
 out=results/reproduce
 # One records folder for every table: a cell two tables need is built once.
 records=$out/records

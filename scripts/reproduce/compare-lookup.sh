@@ -10,20 +10,14 @@
 #   scripts/reproduce/compare-lookup.sh [--max-resolution 64K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
-# The registry defaults, given explicitly as compare-size.sh gives them (the same cells).
-mh_family=(--param search-distance=1000 --param treelet-height=4 --param chunk-size=32
-  --param skip-level=6)
-voxel=(--param grid-levels=0 --param leaf-layout=slab8 --param culling=on
-  --param transitions=aligned)
-zstd=(--param block=64 --param level=3)
 scenes=city:full,terrain:full
 # compare-size.sh says why these caps (memory: no cell above about 16 GiB).
 up_to_16k=$(capped 16K 4K 4)
-sweep --schemes cpvs,cpvs-fast "${voxel[@]}" --scenes "$scenes" --modes closed \
+sweep --schemes cpvs,cpvs-fast "${voxel_dag_defaults[@]}" --scenes "$scenes" --modes closed \
   --resolutions "$(resolutions 4K 4)"
-sweep --schemes mh,mmh,dag-mh "${mh_family[@]}" --scenes "$scenes" --modes closed \
+sweep --schemes mh,mmh,dag-mh "${mh_family_defaults[@]}" --scenes "$scenes" --modes closed \
   --resolutions "$(resolutions 4K 4)"
-sweep --schemes sm-zstd "${zstd[@]}" --scenes "$scenes" --modes closed \
+sweep --schemes sm-zstd "${sm_zstd_defaults[@]}" --scenes "$scenes" --modes closed \
   --resolutions "$(resolutions 4K 4)"
 sweep --schemes compressed-sm --scenes "$scenes" --modes closed --resolutions "$(resolutions 4K 4)"
 sweep --schemes sm32 --scenes "$scenes" --modes closed --resolutions "$up_to_16k"

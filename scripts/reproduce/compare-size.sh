@@ -10,13 +10,6 @@
 #   scripts/reproduce/compare-size.sh [--max-resolution 64K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
-# Every scheme at its registry defaults, given explicitly so that the cells stay the ones the
-# other tables build (a record's file name carries its parameters) if a default changes.
-mh_family=(--param search-distance=1000 --param treelet-height=4 --param chunk-size=32
-  --param skip-level=6)
-voxel=(--param grid-levels=0 --param leaf-layout=slab8 --param culling=on
-  --param transitions=aligned)
-zstd=(--param block=64 --param level=3)
 scenes=city:full,terrain:full
 
 # Caps (estimates from the records below the cap):
@@ -30,13 +23,13 @@ scenes=city:full,terrain:full
 #   18 GiB at 32K² and 60 GiB at 64K²; its encoder stops past 3/4 of the machine's memory.
 up_to_16k=$(capped 16K 4K)
 up_to_8k=$(capped 8K 4K)
-sweep --schemes cpvs,cpvs-fast "${voxel[@]}" --scenes "$scenes" --modes closed,open \
+sweep --schemes cpvs,cpvs-fast "${voxel_dag_defaults[@]}" --scenes "$scenes" --modes closed,open \
   --resolutions "$(resolutions 4K)"
-sweep --schemes mh,mmh,dag-mh "${mh_family[@]}" --scenes "$scenes" --modes closed \
+sweep --schemes mh,mmh,dag-mh "${mh_family_defaults[@]}" --scenes "$scenes" --modes closed \
   --resolutions "$(resolutions 4K)"
-sweep --schemes mh,mmh,dag-mh "${mh_family[@]}" --scenes "$scenes" --modes open \
+sweep --schemes mh,mmh,dag-mh "${mh_family_defaults[@]}" --scenes "$scenes" --modes open \
   --resolutions "$up_to_8k"
-sweep --schemes sm-zstd "${zstd[@]}" --scenes "$scenes" --modes closed,open \
+sweep --schemes sm-zstd "${sm_zstd_defaults[@]}" --scenes "$scenes" --modes closed,open \
   --resolutions "$(resolutions 4K)"
 sweep --schemes compressed-sm --scenes "$scenes" --modes closed,open --resolutions "$(resolutions 4K)"
 sweep --schemes sm32 --scenes "$scenes" --modes closed,open --resolutions "$up_to_16k"
@@ -45,5 +38,5 @@ sweep --schemes openvdb --scenes "$scenes" --modes closed,open --resolutions "$u
 # mode the records hold), into results/reproduce/compare-size/plots.
 /usr/bin/python3 scripts/plot.py "$records" --out "$out/$table/plots" \
   --schemes sm32,compressed-sm,sm-zstd,openvdb,cpvs,cpvs-fast,mh,mmh,dag-mh \
-  "${mh_family[@]}" "${voxel[@]}" "${zstd[@]}" >/dev/null
+  "${mh_family_defaults[@]}" "${voxel_dag_defaults[@]}" "${sm_zstd_defaults[@]}" >/dev/null
 tabulate

@@ -54,6 +54,14 @@ struct SyntheticMap {
     return map;
   }
 
+  // Every texel [lo, hi], closed mode.
+  static SyntheticMap uniform(uint32_t resolution, float lo, float hi) {
+    SyntheticMap map{resolution, DepthMode::Closed, {}, {}};
+    map.lo.assign(size_t(resolution) * resolution, lo);
+    map.hi.assign(map.lo.size(), hi);
+    return map;
+  }
+
   MapInfo info(SchemeKind kind) const {
     return {resolution, kind == SchemeKind::Voxel ? resolution : 0u, mode};
   }
