@@ -212,7 +212,13 @@ class CompressedSmEncoder final : public Encoder {
     context.phase("concatenate scanlines");
     std::vector<uint32_t> rowIndex{0};
     rowIndex.reserve(size_t(map_.resolution) + 1);
+    // Reserved exactly: growing by doubling would hold up to twice the segments while copying.
+    size_t total = 0;
+    for (const Scanline& scanline : scanlines_) total += scanline.segments.count();
     Segments all;
+    all.firstColumns.reserve(total);
+    all.starts.reserve(total);
+    all.slopes.reserve(total);
     for (Scanline& scanline : scanlines_) {
       if (scanline.arrived != map_.resolution)
         throw std::logic_error("compressed-sm: the map did not arrive whole");
