@@ -1,12 +1,10 @@
 #include "harness/record.h"
 
-#include <fcntl.h>
 #include <malloc.h>
 #include <sys/utsname.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -101,72 +99,6 @@ uint64_t fnv1a(std::string_view text) {
   return hash;
 }
 
-// Closes a file descriptor and removes the temporary it belongs to unless released: the one
-// place that guarantees a failed write leaves nothing behind.
-class TemporaryFile {
- public:
-  TemporaryFile(fs::path path, int fd) : path_(std::move(path)), fd_(fd) {}
-  TemporaryFile(const TemporaryFile&) = delete;
-  TemporaryFile& operator=(const TemporaryFile&) = delete;
-  ~TemporaryFile() {
-    if (fd_ >= 0) ::close(fd_);
-    if (!released_) ::unlink(path_.c_str());
-  }
-  int fd() const { return fd_; }
-  const fs::path& path() const { return path_; }
-  // Closes the descriptor, reporting a failed close (which can report a failed write).
-  bool close() {
-    const int fd = fd_;
-    fd_ = -1;
-    return ::close(fd) == 0;
-  }
-  void release() { released_ = true; }
-
- private:
-  fs::path path_;
-  int fd_;
-  bool released_ = false;
-};
-
-[[noreturn]] void throwFileError(std::string_view what, const fs::path& path, int error) {
-  throw std::runtime_error(fmt::format("{} '{}': {}", what, path.string(), std::strerror(error)));
-}
-
-// A new temporary beside `path`. Its name starts with '.' and does not end in ".json", so a
-// reader never takes a leftover temporary for a record.
-TemporaryFile createTemporaryBeside(const fs::path& path) {
-  static std::atomic<uint64_t> counter{0};
-  const auto thread = std::hash<std::thread::id>{}(std::this_thread::get_id());
-  for (int attempt = 0; attempt < 100; ++attempt) {
-    const fs::path temporary =
-        path.parent_path() / fmt::format(".{}.tmp-{}-{:x}-{}", path.filename().string(), getpid(),
-                                         thread & 0xffffff, counter.fetch_add(1));
-    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd >= 0) return TemporaryFile(temporary, fd);
-    if (errno != EEXIST) throwFileError("cannot create a temporary file for", path, errno);
-  }
-  throwFileError("cannot create a temporary file for", path, EEXIST);
-}
-
-void writeAll(int fd, std::string_view data, const fs::path& path) {
-  while (!data.empty()) {
-    const ssize_t written = ::write(fd, data.data(), data.size());
-    if (written < 0) {
-      if (errno == EINTR) continue;
-      throwFileError("cannot write", path, errno);
-    }
-    data.remove_prefix(size_t(written));
-  }
-}
-
-// Makes the rename itself durable; failure only weakens durability, not atomicity.
-void syncFolder(const fs::path& folder) {
-  const int fd = ::open(folder.empty() ? "." : folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return;
-  ::fsync(fd);
-  ::close(fd);
-}
-
 template <typename T>
 bool has(const nlohmann::json& object, const char* key, T check) {
   const auto it = object.find(key);
@@ -228,22 +160,6 @@ void resetPeakRss() {
     std::fputs("5", file);
     std::fclose(file);
   }
-}
-
-void writeFileAtomically(const fs::path& path, std::string_view contents) {
-  std::error_code error;
-  if (path.has_parent_path()) {
-    fs::create_directories(path.parent_path(), error);
-    if (error) throwFileError("cannot create the folder of", path, error.value());
-  }
-  TemporaryFile temporary = createTemporaryBeside(path);
-  writeAll(temporary.fd(), contents, path);
-  if (::fsync(temporary.fd()) != 0) throwFileError("cannot sync", path, errno);
-  if (!temporary.close()) throwFileError("cannot write", path, errno);
-  if (::rename(temporary.path().c_str(), path.c_str()) != 0)
-    throwFileError("cannot replace", path, errno);
-  temporary.release();
-  syncFolder(path.parent_path());
 }
 
 void writeJsonAtomically(const fs::path& path, const nlohmann::json& record) {

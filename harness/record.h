@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "schemes/interface/atomic_file.h"
+
 namespace sb {
 
 // The format tag every record carries; a reader rejects anything else.
@@ -29,10 +31,7 @@ uint64_t currentRssBytes();       // VmRSS
 void resetPeakRss();              // so that the next peakRssBytes() measures from now on
 uint64_t peakRssBytes();          // VmHWM
 
-// Writes `contents` to `path` so that `path` holds either its old contents or all the new ones,
-// never a part: a unique temporary in the same folder, fsync, rename. Creates parent folders.
-// Throws std::runtime_error naming the path on failure (and leaves no temporary behind).
-void writeFileAtomically(const std::filesystem::path& path, std::string_view contents);
+// The record as indented JSON through writeFileAtomically.
 void writeJsonAtomically(const std::filesystem::path& path, const nlohmann::json& record);
 
 // True when `record` is a complete record this version can read: the format tag, "complete":

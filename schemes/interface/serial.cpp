@@ -4,9 +4,10 @@
 #include <iterator>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <xxhash.h>
+#include <nlohmann/json.hpp>
 
+#include "schemes/interface/atomic_file.h"
 #include "schemes/interface/lightspace.h"
 
 namespace sb {
@@ -142,15 +143,8 @@ std::unique_ptr<Decoder> decodeStructureFile(std::span<const uint8_t> file,
 void saveStructure(const std::filesystem::path& path, const StructureHeader& header,
                    const Decoder& decoder) {
   const std::vector<uint8_t> bytes = encodeStructureFile(header, decoder);
-  std::filesystem::path temporary = path;
-  temporary += ".partial";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    if (!out.flush())
-      throw std::runtime_error(fmt::format("cannot write structure file '{}'", temporary.string()));
-  }
-  std::filesystem::rename(temporary, path);
+  writeFileAtomically(path,
+                      std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 std::unique_ptr<Decoder> loadStructure(const std::filesystem::path& path, StructureHeader* header) {

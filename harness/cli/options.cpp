@@ -1,0 +1,99 @@
+#include "harness/cli/options.h"
+
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "harness/cell.h"
+
+namespace sb::cli {
+
+namespace {
+int status = 0;
+}  // namespace
+
+int exitStatus() {
+  return status;
+}
+void setExitStatus(int value) {
+  status = value;
+}
+
+void MapOptions::addTo(CLI::App* app, bool withMapShape) {
+  app->add_option("--scene,-s", scene,
+                  "generator (city, terrain, forest, tangle; ':full' or "
+                  "':size=N,seed=S'), scene .json or model file")
+      ->capture_default_str();
+  app->add_option("--light,-l", light, "index of the scene's light")->capture_default_str();
+  if (!withMapShape) return;
+  app->add_option("--mode,-m", mode, "dual depth mode: open, closed or static")
+      ->capture_default_str();
+  app->add_option("--resolution,-r", resolution, "texels per side: 512, 4K, 64K, …")
+      ->capture_default_str();
+  app->add_option("--tile", tile, "tile size streamed to the encoder (default min(R, 512))");
+}
+
+void addSampledQueries(CLI::App* app, uint64_t& sampledQueries) {
+  app->add_option("--sampled-queries", sampledQueries, "queries checked above 2K²")
+      ->capture_default_str();
+}
+
+Params parseParams(const std::vector<std::string>& assignments) {
+  Params params;
+  for (const std::string& a : assignments) {
+    const size_t eq = a.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw std::invalid_argument(fmt::format("parameter '{}' must be written name=value", a));
+    params[a.substr(0, eq)] = a.substr(eq + 1);
+  }
+  return params;
+}
+
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) items.push_back(item);
+  return items;
+}
+
+void printVerification(const nlohmann::json& v) {
+  fmt::print("verification ({}): {} queries, {} mismatches\n", v["method"].get<std::string>(),
+             v["queries"].get<uint64_t>(), v["mismatches"].get<uint64_t>());
+  for (const auto& m : v["examples"])
+    fmt::print("  mismatch at x={} y={} z={} k={}: got {}, expected [{}, {}]\n",
+               m["x"].get<float>(), m["y"].get<float>(), m["z"].get<float>(), m["k"].get<int>(),
+               m["got"].get<float>(), m["expected"][0].get<float>(), m["expected"][1].get<float>());
+}
+
+void printCellSummary(const nlohmann::json& r) {
+  fmt::print(
+      "{} on {} ({}, {}²): {:.3f} MiB in {:.2f} s (depth {:.1f} Mtexels/s, peak RSS {:.0f} MiB)\n",
+      r["scheme"]["name"].get<std::string>(), r["scene"]["name"].get<std::string>(),
+      r["mode"].get<std::string>(), r["resolution"].get<uint32_t>(),
+      r["size_bytes"]["total"].get<double>() / (1 << 20), r["time_s"]["total"].get<double>(),
+      r["depth"]["mtexels_per_s"].get<double>(),
+      r["memory"]["peak_rss_bytes"].get<double>() / (1 << 20));
+  if (r.contains("verification")) printVerification(r["verification"]);
+  if (r.contains("lookup"))
+    for (const auto& t : r["lookup"])
+      fmt::print(
+          "  lookup {:8} {:2}×{:<2}: {:8.1f} ns/query (1 thread), {:8.1f} Mqueries/s ({} "
+          "threads)\n",
+          t["query_set"].get<std::string>(), t["filter"].get<int>(), t["filter"].get<int>(),
+          t["ns_per_query_1t"].get<double>(), t["mqueries_per_s_all"].get<double>(),
+          t["threads"].get<int>());
+}
+
+bool hasMismatches(const nlohmann::json& record) {
+  return record.contains("verification") &&
+         record["verification"]["mismatches"].get<uint64_t>() > 0;
+}
+
+LoadedStructure::LoadedStructure(const std::string& structurePath, const MapOptions& map)
+    : decoder(loadStructure(structurePath, &header)), scene(openScene(map.scene)) {
+  source = std::make_unique<DepthSource>(scene, sceneLight(scene, map.light), header.map.mode,
+                                         header.map.resolution);
+}
+
+}  // namespace sb::cli

@@ -1,0 +1,68 @@
+#include <fstream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "harness/cell.h"
+#include "harness/cli/commands.h"
+#include "harness/cli/options.h"
+#include "harness/scene_export.h"
+
+namespace sb::cli {
+
+namespace {
+
+void listGenerators() {
+  for (const GeneratorInfo& g : sceneGenerators())
+    fmt::print("{:8} default size {}, full size {} — {}\n", g.name, g.defaultSize, g.fullSize,
+               g.description);
+}
+
+void printSceneInfo(const MapOptions& o) {
+  const Scene scene = openScene(o.scene);
+  const Bounds b = scene.bounds();
+  fmt::print("scene {}: {} triangles in {} meshes, hash {}\n", scene.name, scene.triangleCount(),
+             scene.meshes.size(), scene.hash());
+  fmt::print("bounds ({}, {}, {}) – ({}, {}, {})\n", b.min.x, b.min.y, b.min.z, b.max.x, b.max.y,
+             b.max.z);
+  for (const Mesh& m : scene.meshes)
+    fmt::print("  {:24} {:6} {:>10} triangles\n", m.name, m.closed ? "closed" : "open",
+               m.triangles.size());
+  for (size_t i = 0; i < scene.lights.size(); ++i)
+    fmt::print("  light {}: {}\n", i, sceneLight(scene, uint32_t(i)).describe().dump());
+}
+
+struct ExportOptions {
+  MapOptions map;
+  std::string output;
+};
+
+void exportScene(const ExportOptions& o) {
+  const Scene scene = openScene(o.map.scene);
+  std::ofstream out(o.output);
+  if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", o.output));
+  exportLightSpaceObj(scene, sceneLight(scene, o.map.light), out);
+  fmt::print("wrote {} ({} triangles in light space)\n", o.output, scene.triangleCount());
+}
+
+}  // namespace
+
+void addSceneCommand(CLI::App& app) {
+  CLI::App* scene = app.add_subcommand("scene", "inspect and export scenes");
+  scene->require_subcommand(1);
+  scene->add_subcommand("list", "list the procedural generators")->callback(listGenerators);
+
+  auto info = std::make_shared<MapOptions>();
+  CLI::App* infoCmd =
+      scene->add_subcommand("info", "triangles, meshes, closedness, bounds, lights, hash");
+  info->addTo(infoCmd, false);
+  infoCmd->callback([info] { printSceneInfo(*info); });
+
+  auto exported = std::make_shared<ExportOptions>();
+  CLI::App* exportCmd = scene->add_subcommand("export", "write the scene in light space as OBJ");
+  exported->map.addTo(exportCmd, false);
+  exportCmd->add_option("--output,-o", exported->output, "OBJ file to write")->required();
+  exportCmd->callback([exported] { exportScene(*exported); });
+}
+
+}  // namespace sb::cli
