@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 #include <tbb/task_arena.h>
@@ -15,7 +16,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // Times only what happens inside the scheme's calls, credited to the phase the scheme named
-// last ("encode" until it names one).
+// last. Time before the first name goes to the first phase, or to "encode" for a scheme that
+// names none: a record lists only phases that ran.
 class TimedBuildContext final : public BuildContext {
  public:
   void phase(std::string_view name) override {
@@ -28,6 +30,10 @@ class TimedBuildContext final : public BuildContext {
 
   void enter() { since_ = Clock::now(); }
   void leave() { credit(); }
+  // After the scheme's last call: a scheme that named no phase spent its time encoding.
+  void close() {
+    if (current_.empty()) add("encode", unnamed_);
+  }
 
   std::vector<std::pair<std::string, double>> phases;
   std::map<std::string, uint64_t> counters;
@@ -37,15 +43,22 @@ class TimedBuildContext final : public BuildContext {
     const auto now = Clock::now();
     const double seconds = std::chrono::duration<double>(now - since_).count();
     since_ = now;
+    if (current_.empty())
+      unnamed_ += seconds;
+    else
+      add(current_, seconds + std::exchange(unnamed_, 0.0));
+  }
+  void add(const std::string& phase, double seconds) {
     for (auto& [name, total] : phases)
-      if (name == current_) {
+      if (name == phase) {
         total += seconds;
         return;
       }
-    phases.emplace_back(current_, seconds);
+    phases.emplace_back(phase, seconds);
   }
 
-  std::string current_ = "encode";
+  std::string current_;  // empty until the scheme names a phase
+  double unnamed_ = 0;   // time before the scheme named one
   Clock::time_point since_ = Clock::now();
 };
 
@@ -55,8 +68,9 @@ MapInfo mapFor(const SchemeInfo& scheme, DepthMode mode, uint32_t resolution) {
   return {resolution, scheme.kind == SchemeKind::Voxel ? resolution : 0u, mode};
 }
 
-void checkBuildFits(const SchemeInfo& scheme, const MapInfo& map, const Params& params) {
-  const uint64_t needed = scheme.buildBytes ? scheme.buildBytes(map, params) : 0;
+void checkBuildFits(const SchemeInfo& scheme, const MapInfo& map, const ParamValues& params,
+                    const BuildShape& shape) {
+  const uint64_t needed = scheme.buildBytes ? scheme.buildBytes(map, params, shape) : 0;
   const uint64_t available = availableMemoryBytes();
   if (needed > available)
     throw std::runtime_error(fmt::format(
@@ -66,22 +80,22 @@ void checkBuildFits(const SchemeInfo& scheme, const MapInfo& map, const Params& 
 }
 
 BuildOutcome buildStructure(const DepthSource& source, const SchemeInfo& scheme,
-                            const Params& given, uint32_t tileSize,
+                            const ParamValues& params, const BuildShape& shape,
                             const std::function<void(uint64_t)>& progress) {
   BuildOutcome outcome;
-  outcome.params = scheme.resolve(given);
+  outcome.params = params;
   outcome.map = mapFor(scheme, source.mode(), source.resolution());
-  outcome.tileSize = tileSize;
-  checkBuildFits(scheme, outcome.map, outcome.params);
+  outcome.shape = shape;
+  checkBuildFits(scheme, outcome.map, outcome.params, shape);
 
   resetPeakRss();
   outcome.baselineRssBytes = currentRssBytes();
   const uint64_t fallbacksBefore = source.closedFallbacks();
   const auto start = Clock::now();
   TimedBuildContext context;
-  std::unique_ptr<Encoder> encoder = scheme.makeEncoder(outcome.map, outcome.params);
+  std::unique_ptr<Encoder> encoder = scheme.makeEncoder(outcome.map, outcome.params, shape);
   const StreamStats stream = streamDualDepth(
-      source, tileSize,
+      source, shape.tileSize,
       [&](const DualDepthTile& tile) {
         context.enter();
         encoder->consume(tile, context);
@@ -91,6 +105,7 @@ BuildOutcome buildStructure(const DepthSource& source, const SchemeInfo& scheme,
   context.enter();
   outcome.decoder = encoder->finish(context);
   context.leave();
+  context.close();
   encoder.reset();
   outcome.totalSeconds = std::chrono::duration<double>(Clock::now() - start).count();
 

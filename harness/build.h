@@ -17,8 +17,8 @@ namespace sb {
 struct BuildOutcome {
   std::unique_ptr<Decoder> decoder;
   MapInfo map;
-  Params params;  // resolved: every parameter with its value
-  uint32_t tileSize = 0;
+  ParamValues params;  // every parameter with its value
+  BuildShape shape;
   uint64_t texels = 0;
   double depthSeconds = 0;  // tracing time, thread-seconds divided by the threads available
   double totalSeconds = 0;  // wall time of the whole build
@@ -33,10 +33,12 @@ MapInfo mapFor(const SchemeInfo& scheme, DepthMode mode, uint32_t resolution);
 
 // Throws std::runtime_error naming the bytes needed and available when the scheme's declared
 // build memory does not fit in what the machine has free now.
-void checkBuildFits(const SchemeInfo& scheme, const MapInfo& map, const Params& params);
+void checkBuildFits(const SchemeInfo& scheme, const MapInfo& map, const ParamValues& params,
+                    const BuildShape& shape);
 
+// `params` come resolved from the caller (SchemeInfo::resolve), once per build.
 BuildOutcome buildStructure(const DepthSource& source, const SchemeInfo& scheme,
-                            const Params& params, uint32_t tileSize,
+                            const ParamValues& params, const BuildShape& shape,
                             const std::function<void(uint64_t texelsDone)>& progress = {});
 
 }  // namespace sb

@@ -58,7 +58,8 @@ Light sceneLight(const Scene& scene, uint32_t index) {
 nlohmann::json cellIdentity(const CellSpec& cell, const Scene& scene) {
   const SchemeInfo& scheme = findScheme(cell.scheme);
   nlohmann::json params = nlohmann::json::object();
-  for (const auto& [name, value] : scheme.resolve(cell.params)) params[name] = value;
+  const ParamValues values = scheme.resolve(cell.params);
+  for (const auto& [name, value] : values.text()) params[name] = value;
   return {{"format", "shadowbench-record/1"},
           {"scene",
            {{"name", scene.name},
@@ -79,16 +80,17 @@ nlohmann::json runCell(const CellSpec& cell, const Scene& scene, const CellOptio
   const SchemeInfo& scheme = findScheme(cell.scheme);
   nlohmann::json record = cellIdentity(cell, scene);
   const Light light = sceneLight(scene, cell.lightIndex);
-  const uint32_t tileSize = cell.tileSize ? cell.tileSize : defaultTileSize(cell.resolution);
+  const BuildShape shape{cell.tileSize ? cell.tileSize : defaultTileSize(cell.resolution)};
+  const ParamValues params = scheme.resolve(cell.params);
   // Refuse before the depth source spends time on the scene (buildStructure checks again).
-  checkBuildFits(scheme, mapFor(scheme, cell.mode, cell.resolution), scheme.resolve(cell.params));
+  checkBuildFits(scheme, mapFor(scheme, cell.mode, cell.resolution), params, shape);
   const DepthSource source(scene, light, cell.mode, cell.resolution);
 
   const std::string label = fmt::format("{} {} {} {}", scheme.name, scene.name, toString(cell.mode),
                                         resolutionLabel(cell.resolution));
   Progress building("build " + label, uint64_t(cell.resolution) * cell.resolution, "texels");
-  BuildOutcome built = buildStructure(source, scheme, cell.params, tileSize,
-                                      [&](uint64_t done) { building.set(done); });
+  BuildOutcome built =
+      buildStructure(source, scheme, params, shape, [&](uint64_t done) { building.set(done); });
   building.finish();
 
   nlohmann::json components = nlohmann::json::object();
@@ -98,7 +100,7 @@ nlohmann::json runCell(const CellSpec& cell, const Scene& scene, const CellOptio
   for (const auto& [phase, seconds] : built.phaseSeconds) phases[phase] = seconds;
   record["light"] = light.describe();
   record["depth_resolution"] = built.map.depthResolution;
-  record["tile_size"] = tileSize;
+  record["tile_size"] = shape.tileSize;
   record["size_bytes"] = {{"total", totalBytes(sizes)}, {"components", components}};
   record["time_s"] = {
       {"total", built.totalSeconds}, {"depth", built.depthSeconds}, {"phases", phases}};
@@ -112,7 +114,8 @@ nlohmann::json runCell(const CellSpec& cell, const Scene& scene, const CellOptio
                       {"baseline_rss_bytes", built.baselineRssBytes}};
 
   if (options.saveStructureTo)
-    saveStructure(*options.saveStructureTo, {scheme.name, built.params, built.map}, *built.decoder);
+    saveStructure(*options.saveStructureTo, {scheme.name, built.params.text(), built.map},
+                  *built.decoder);
 
   if (options.verify) {
     const uint64_t expected = cell.resolution <= options.verifyOptions.exhaustiveUpTo

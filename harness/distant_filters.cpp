@@ -16,9 +16,8 @@
 #include "harness/lookup_timing.h"
 #include "harness/record.h"
 #include "harness/table.h"
-#include "schemes/interface/depth_decoder.h"
+#include "schemes/interface/capabilities.h"
 #include "schemes/interface/lightspace.h"
-#include "schemes/shared/voxel_dag.h"
 
 namespace fs = std::filesystem;
 
@@ -30,11 +29,12 @@ namespace {
 // timing go through the same code as every exact lookup.
 class VoaaLookup final : public Decoder {
  public:
-  VoaaLookup(const Decoder& dag, uint32_t depth) : dag_(dag), depth_(depth) {}
+  VoaaLookup(const Decoder& dag, const VoxelOccupancy& occupancy, uint32_t depth)
+      : dag_(dag), occupancy_(occupancy), depth_(depth) {}
 
   void lookup(std::span<const Query> queries, int k, std::span<float> visibility) const override {
     if (k != 1) throw std::invalid_argument("a VOAA lookup has no filter size but 1");
-    voxelOccupancy(dag_, queries, depth_, visibility);
+    occupancy_.litFraction(queries, depth_, visibility);
   }
   SizeBreakdown size() const override { return dag_.size(); }
   void save(ByteWriter&) const override {
@@ -43,6 +43,7 @@ class VoaaLookup final : public Decoder {
 
  private:
   const Decoder& dag_;
+  const VoxelOccupancy& occupancy_;
   uint32_t depth_;
 };
 
@@ -100,28 +101,8 @@ FilterError filterError(std::span<const float> approximate, std::span<const floa
   return error;
 }
 
-uint32_t voaaDepth(const SchemeInfo& scheme, const MapInfo& map, const Params& params,
-                   uint32_t side) {
-  if (scheme.kind != SchemeKind::Voxel)
-    throw std::invalid_argument(
-        fmt::format("VOAA reads CPVS node occupancies; {} is a depth scheme", scheme.name));
-  const VoxelDagConfig config = voxelDagConfig(scheme, map, params);
-  const VoxelDagShape shape = VoxelDagShape::of(map, config.layout);
-  const uint32_t leafParentSide = shape.side(shape.leafParentDepth());
-  if (!std::has_single_bit(side) || side < leafParentSide || side > map.resolution)
-    throw std::invalid_argument(
-        fmt::format("VOAA node side {} must be a power of two from {} to {}", side, leafParentSide,
-                    map.resolution));
-  const uint32_t depth = shape.levels - uint32_t(std::countr_zero(side));
-  if (depth < config.gridLevels)
-    throw std::invalid_argument(
-        fmt::format("VOAA node side {} is depth {}, which the top-level grid ({} levels) replaces",
-                    side, depth, config.gridLevels));
-  return depth;
-}
-
 std::vector<BuildOutcome> buildMraaLevels(const Scene& scene, const Light& light, DepthMode mode,
-                                          const SchemeInfo& scheme, const Params& params,
+                                          const SchemeInfo& scheme, const ParamValues& params,
                                           uint32_t resolution, uint32_t levels) {
   if (levels > 4)
     throw std::invalid_argument(fmt::format(
@@ -132,7 +113,8 @@ std::vector<BuildOutcome> buildMraaLevels(const Scene& scene, const Light& light
   std::vector<BuildOutcome> built;
   for (uint32_t level = 1; level <= levels; ++level) {
     const DepthSource source(scene, light, mode, resolution >> level);
-    built.push_back(buildStructure(source, scheme, params, defaultTileSize(source.resolution())));
+    built.push_back(
+        buildStructure(source, scheme, params, BuildShape{defaultTileSize(source.resolution())}));
   }
   return built;
 }
@@ -199,11 +181,13 @@ DistantFiltersReport evaluateDistantFilters(const SchemeInfo& scheme, const Buil
   };
 
   // VOAA: the node of side s against the (s + 1)² kernel, or 17², the largest exact one.
-  for (uint32_t side : options.voaaSides) {
-    const uint32_t depth = voaaDepth(scheme, full.map, full.params, side);
-    addRow("VOAA", fmt::format("s = {} (depth {})", side, depth), VoaaLookup(*full.decoder, depth),
-           1, int(std::min(side + 1, 17u)), report.fullBytes);
-  }
+  if (const VoxelOccupancy* occupancy = full.decoder->voxelOccupancy())
+    for (uint32_t side : options.voaaSides) {
+      const uint32_t depth = occupancy->depthOfSide(side);
+      addRow("VOAA", fmt::format("s = {} (depth {})", side, depth),
+             VoaaLookup(*full.decoder, *occupancy, depth), 1, int(std::min(side + 1, 17u)),
+             report.fullBytes);
+    }
   // MRAA: level L's point and 3×3 lookups against the 2^L + 1 kernel at full resolution.
   for (uint32_t level = 0; level <= mraa.size(); ++level) {
     const BuildOutcome& built = level == 0 ? full : mraa[level - 1];
@@ -215,7 +199,7 @@ DistantFiltersReport evaluateDistantFilters(const SchemeInfo& scheme, const Buil
           level == 0 ? report.fullBytes : report.mraaBytes[level - 1]);
   }
   // HPCF: the same footprints as MRAA, read from the full structure's own coarser levels.
-  if (const auto* levels = dynamic_cast<const HierarchicalLookup*>(full.decoder.get()))
+  if (const HierarchicalLookup* levels = full.decoder->hierarchicalLookup())
     for (uint32_t level = 1; level <= mraa.size(); ++level)
       for (int k : {1, 3})
         addRow("HPCF",
@@ -265,16 +249,18 @@ void runDistantFilters(const CommandOptions& o) {
   fmt::print("building {} on {} ({}) at {} and its MRAA levels down to {}\n", scheme.name,
              scene.name, o.mode, resolutionHeading(resolution),
              resolutionHeading(resolution >> kMraaLevels));
-  const BuildOutcome full = buildStructure(source, scheme, {}, defaultTileSize(resolution));
+  const ParamValues params = scheme.resolve({});
+  const BuildOutcome full =
+      buildStructure(source, scheme, params, BuildShape{defaultTileSize(resolution)});
   const std::vector<BuildOutcome> mraa =
-      buildMraaLevels(scene, light, mode, scheme, {}, resolution, kMraaLevels);
+      buildMraaLevels(scene, light, mode, scheme, params, resolution, kMraaLevels);
   // The query sets and sizes of the lookup benchmark (cell.cpp).
   const QuerySet set =
       o.queries == "view" ? viewSamples(scene, source, 1920, 1080, 2) : uniformQueries(1 << 22, 7);
   DistantFiltersOptions options;
-  if (!readsVoxelOccupancy(*full.decoder)) options.voaaSides.clear();
   fmt::print("evaluating {} {} queries\n", set.queries.size(), set.name);
   const DistantFiltersReport report = evaluateDistantFilters(scheme, full, mraa, set, options);
+  const bool hasVoaa = full.decoder->voxelOccupancy() != nullptr;
 
   std::string markdown = fmt::format(
       "# Distant filters: {} on `{}`, {}, {}\n\n"
@@ -288,7 +274,7 @@ void runDistantFilters(const CommandOptions& o) {
       "(all levels together {:.2f}×; Sintorn §5 says about twice the full structure).\n\n",
       1u << kMraaLevels, report.mraaExtra() * double(report.fullBytes) / (1 << 20),
       report.mraaExtra(), double(report.fullBytes) / (1 << 20), 1 + report.mraaExtra());
-  if (!options.voaaSides.empty())
+  if (hasVoaa)
     markdown +=
         "VOAA is a volume filter (Sintorn §5): the occupancy of the aligned s³ node holding the "
         "query's voxel, against an area kernel centred on the query texel at its depth. s = 32 "
@@ -307,8 +293,8 @@ void runDistantFilters(const CommandOptions& o) {
       fs::path(o.out) / fmt::format("{}_{}_{}_{}_{}", fileNamePart(scene.name), o.mode, scheme.name,
                                     fileNamePart(resolutionLabel(resolution)), set.name);
   nlohmann::json json = report.toJson();
-  nlohmann::json params = nlohmann::json::object();
-  for (const auto& [name, value] : full.params) params[name] = value;
+  nlohmann::json paramsJson = nlohmann::json::object();
+  for (const auto& [name, value] : full.params.text()) paramsJson[name] = value;
   json.update({{"format", "shadowbench-distant-filters/1"},
                {"scene",
                 {{"name", scene.name},
@@ -317,7 +303,7 @@ void runDistantFilters(const CommandOptions& o) {
                  {"hash", scene.hash()}}},
                {"light_index", 0},
                {"mode", o.mode},
-               {"scheme", {{"name", scheme.name}, {"params", params}}},
+               {"scheme", {{"name", scheme.name}, {"params", paramsJson}}},
                {"resolution", resolution},
                {"query_set", set.name},
                {"machine", machineInfo()},

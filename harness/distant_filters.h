@@ -30,16 +30,10 @@ struct FilterError {
 };
 FilterError filterError(std::span<const float> approximate, std::span<const float> exact);
 
-// VOAA (Sintorn §5): the node depth whose cubes have side `side` (a power of two ≥ 8, the leaf
-// parents' side, and ≤ R). Throws std::invalid_argument for another side, a scheme that is not
-// CPVS-format, or a depth that the top-level grid replaces (it keeps no occupancy there).
-uint32_t voaaDepth(const SchemeInfo& scheme, const MapInfo& map, const Params& params,
-                   uint32_t side);
-
 // MRAA (Sintorn §5): `scheme` built with the same light, mode and parameters at R/2, R/4, …,
 // R/2^levels (levels ≤ 4, so that the matching exact kernel 2^L + 1 is at most 17×17).
 std::vector<BuildOutcome> buildMraaLevels(const Scene& scene, const Light& light, DepthMode mode,
-                                          const SchemeInfo& scheme, const Params& params,
+                                          const SchemeInfo& scheme, const ParamValues& params,
                                           uint32_t resolution, uint32_t levels);
 
 // The exact kernel an MRAA level L answer stands for: 2^L + 1, the odd kernel covering one

@@ -7,6 +7,7 @@
 
 #include "harness/cell.h"
 #include "harness/distant_filters.h"
+#include "schemes/interface/capabilities.h"
 
 using namespace sb;
 
@@ -20,11 +21,13 @@ DistantFiltersReport evaluate(const Scene& scene, const std::string& schemeName)
   const SchemeInfo& scheme = findScheme(schemeName);
   const Light light = sceneLight(scene, 0);
   const DepthSource source(scene, light, DepthMode::Closed, kResolution);
-  const BuildOutcome full = buildStructure(source, scheme, {}, defaultTileSize(kResolution));
-  const auto mraa = buildMraaLevels(scene, light, DepthMode::Closed, scheme, {}, kResolution, 4);
+  const ParamValues params = scheme.resolve({});
+  const BuildOutcome full =
+      buildStructure(source, scheme, params, BuildShape{defaultTileSize(kResolution)});
+  const auto mraa =
+      buildMraaLevels(scene, light, DepthMode::Closed, scheme, params, kResolution, 4);
   DistantFiltersOptions options;
   options.time = false;
-  if (scheme.kind != SchemeKind::Voxel) options.voaaSides.clear();
   return evaluateDistantFilters(scheme, full, mraa, viewSamples(scene, source, 96, 64, 2), options);
 }
 
@@ -42,20 +45,36 @@ TEST_CASE("filter errors are the mean, RMS and largest difference and the share 
   CHECK_THROWS_AS(filterError(std::span(approximate).first(2), exact), std::invalid_argument);
 }
 
+namespace {
+
+// The occupancy a VOAA row reads, of a structure built at 128² (7 levels) with `params`.
+std::unique_ptr<Decoder> built128(const std::string& schemeName, const Params& params) {
+  const Scene scene = openScene(kScene);
+  const SchemeInfo& scheme = findScheme(schemeName);
+  const DepthSource source(scene, sceneLight(scene, 0), DepthMode::Closed, kResolution);
+  return buildStructure(source, scheme, scheme.resolve(params), BuildShape{64}).decoder;
+}
+
+}  // namespace
+
 TEST_CASE("VOAA depths follow the node side", "[distant]") {
-  const SchemeInfo& cpvs = findScheme("cpvs-fast");
-  const MapInfo map = mapFor(cpvs, DepthMode::Closed, kResolution);  // 7 levels
-  CHECK(voaaDepth(cpvs, map, {}, 8) == 4);                           // the leaf parents
-  CHECK(voaaDepth(cpvs, map, {}, 16) == 3);
-  CHECK(voaaDepth(cpvs, map, {}, 128) == 0);
+  const auto cpvs = built128("cpvs-fast", {});
+  const VoxelOccupancy* occupancy = cpvs->voxelOccupancy();
+  REQUIRE(occupancy);
+  CHECK(occupancy->depthOfSide(8) == 4);  // the leaf parents
+  CHECK(occupancy->depthOfSide(16) == 3);
+  CHECK(occupancy->depthOfSide(128) == 0);
   for (uint32_t side : {0u, 4u, 12u, 256u})
-    CHECK_THROWS_AS(voaaDepth(cpvs, map, {}, side), std::invalid_argument);
+    CHECK_THROWS_AS(occupancy->depthOfSide(side), std::invalid_argument);
   // The grid replaces depths 0–3, which then hold no occupancy.
-  CHECK(voaaDepth(cpvs, map, {{"grid-levels", "4"}}, 8) == 4);
-  CHECK_THROWS_AS(voaaDepth(cpvs, map, {{"grid-levels", "4"}}, 16), std::invalid_argument);
-  CHECK_THROWS_AS(
-      voaaDepth(findScheme("sm32"), mapFor(findScheme("sm32"), DepthMode::Closed, 128), {}, 8),
-      std::invalid_argument);
+  const auto gridded = built128("cpvs-fast", {{"grid-levels", "4"}});
+  CHECK(gridded->voxelOccupancy()->depthOfSide(8) == 4);
+  CHECK_THROWS_AS(gridded->voxelOccupancy()->depthOfSide(16), std::invalid_argument);
+  // Only CPVS-format structures keep occupancies; the MH family keeps coarser levels instead.
+  CHECK(built128("sm32", {})->voxelOccupancy() == nullptr);
+  CHECK(built128("openvdb", {})->voxelOccupancy() == nullptr);
+  CHECK(built128("mh", {})->hierarchicalLookup() != nullptr);
+  CHECK(built128("cpvs", {})->hierarchicalLookup() == nullptr);
 }
 
 TEST_CASE("MRAA levels stop at 4 and at the smallest map", "[distant]") {

@@ -25,7 +25,10 @@ struct Fixture {
 
   const Decoder& decoder(const SchemeInfo& scheme) {
     auto& slot = built[scheme.name];
-    if (!slot) slot = buildStructure(source, scheme, {}, defaultTileSize(kResolution)).decoder;
+    if (!slot)
+      slot = buildStructure(source, scheme, scheme.resolve({}),
+                            BuildShape{defaultTileSize(kResolution)})
+                 .decoder;
     return *slot;
   }
 };

@@ -33,8 +33,9 @@ struct BuiltLights {
   BuiltLights(const Scene& scene, uint32_t resolution) {
     for (uint32_t i = 0; i < scene.lights.size(); ++i) {
       const DepthSource source(scene, sceneLight(scene, i), DepthMode::Closed, resolution);
-      decoders.push_back(
-          buildStructure(source, findScheme("sm32"), {}, defaultTileSize(resolution)).decoder);
+      decoders.push_back(buildStructure(source, findScheme("sm32"), findScheme("sm32").resolve({}),
+                                        BuildShape{defaultTileSize(resolution)})
+                             .decoder);
       lights.emplace_back(source.light(), *decoders.back(), resolution);
     }
   }

@@ -42,7 +42,8 @@ void checkCell(const SchemeInfo& scheme, const std::string& sceneName, DepthMode
                uint32_t resolution, const VerifyOptions& options) {
   const Scene& scene = sceneName == "spot-city" ? spotLitCity() : cachedScene(sceneName);
   const DepthSource source(scene, sceneLight(scene, 0), mode, resolution);
-  const BuildOutcome built = buildStructure(source, scheme, {}, defaultTileSize(resolution) / 2);
+  const BuildOutcome built = buildStructure(source, scheme, scheme.resolve({}),
+                                            BuildShape{defaultTileSize(resolution) / 2});
   const VerifyReport report = verify(*built.decoder, scheme.kind, built.map, source, options);
   INFO(fmt::format("{} on {} ({}, {}²): {} of {} queries wrong", scheme.name, sceneName,
                    toString(mode), resolution, report.mismatches, report.queries));

@@ -291,16 +291,18 @@ SchemeInfo compressedSm() {
       "Arvo & Hirvikorpi 2005, compressed shadow maps: scanlines as piecewise-linear "
       "functions through the depth intervals";
   info.kind = SchemeKind::Depth;
-  // The open segments' texels: a row of 512² tiles' worth when segments are as short as tiles
-  // (long segments keep more, up to the texels of a scanline that has arrived), and the
-  // segments (not known ahead).
-  info.buildBytes = [](const MapInfo& map, const Params&) {
-    return uint64_t(map.resolution) * std::min(map.resolution, 512u) * 2 * sizeof(float);
+  // The open segments' texels: a row of tiles' worth when segments are as short as tiles (long
+  // segments keep more, up to the texels of a scanline that has arrived); and the segments, at
+  // least one per scanline (start and slope) with its row index entry.
+  info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape& shape) {
+    return uint64_t(map.resolution) * std::min(map.resolution, shape.tileSize) * 2 * sizeof(float) +
+           uint64_t(map.resolution) * (2 * sizeof(float) + sizeof(uint64_t));
   };
-  info.makeEncoder = [](const MapInfo& map, const Params&) -> std::unique_ptr<Encoder> {
+  info.makeEncoder = [](const MapInfo& map, const ParamValues&,
+                        const BuildShape&) -> std::unique_ptr<Encoder> {
     return std::make_unique<CompressedSmEncoder>(map);
   };
-  info.load = [](ByteReader& in, const MapInfo& map, const Params&) { return load(in, map); };
+  info.load = [](ByteReader& in, const MapInfo& map, const ParamValues&) { return load(in, map); };
   return info;
 }
 

@@ -127,7 +127,7 @@ TEST_CASE("compressed-sm: fitting a scanline piece by piece gives the whole scan
 TEST_CASE("compressed-sm: scanlines must arrive left to right", "[compressed-sm]") {
   const SchemeInfo& scheme = findScheme("compressed-sm");
   const SyntheticMap map = SyntheticMap::random(16, DepthMode::Open, 2);
-  auto encoder = scheme.makeEncoder(map.info(scheme.kind), scheme.resolve({}));
+  auto encoder = scheme.makeEncoder(map.info(scheme.kind), scheme.resolve({}), BuildShape{16});
   testing::NullBuildContext context;
   DualDepthTile tile;
   tile.resize(8, 0, 8, 8);
@@ -174,7 +174,7 @@ TEST_CASE("compressed-sm: the loader rejects a row index past the segments", "[c
   const SchemeInfo& scheme = findScheme("compressed-sm");
   const SyntheticMap map = SyntheticMap::random(8, DepthMode::Closed, 3);
   const auto decoder = map.build(scheme, {}, 8);
-  const StructureHeader header{scheme.name, scheme.resolve({}), map.info(scheme.kind)};
+  const StructureHeader header{scheme.name, scheme.resolve({}).text(), map.info(scheme.kind)};
   ByteWriter payload;
   decoder->save(payload);
   // The row index comes first: a u64 count, then R + 1 u32 entries. Push the last entry past

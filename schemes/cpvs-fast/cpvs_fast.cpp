@@ -270,28 +270,23 @@ SchemeInfo cpvsFast() {
   SchemeInfo info = voxelDagScheme(
       "cpvs-fast",
       "Kämpe, Sintorn, Assarsson 2015, Fast, Memory-Efficient Construction of Voxelized Shadows");
-  info.params.push_back({"culling",
-                         "reuse the node of the volume in front instead of building an identical "
-                         "one (§3.2); off for Table 1's comparison",
-                         "on",
-                         0,
-                         0,
-                         {"on", "off"},
-                         {"on", "off"}});
-  info.params.push_back({"transitions",
-                         "where a block's visibility mask changes (§3.4): at the nearest exit "
-                         "depth, or at the most aligned slice the rule allows",
-                         "aligned",
-                         0,
-                         0,
-                         {"nearest-exit", "aligned"},
-                         {"nearest-exit", "aligned"}});
-  info.makeEncoder = [](const MapInfo& map, const Params& params) -> std::unique_ptr<Encoder> {
-    const SchemeInfo& scheme = findScheme("cpvs-fast");
-    const Params resolved = scheme.resolve(params);
+  info.params.push_back(ParamSpec::choice("culling",
+                                          "reuse the node of the volume in front instead of "
+                                          "building an identical one (§3.2); off for Table 1's "
+                                          "comparison",
+                                          "on", {"on", "off"}, {"on", "off"}));
+  info.params.push_back(ParamSpec::choice("transitions",
+                                          "where a block's visibility mask changes (§3.4): at the "
+                                          "nearest exit depth, or at the most aligned slice the "
+                                          "rule allows",
+                                          "aligned", {"nearest-exit", "aligned"},
+                                          {"nearest-exit", "aligned"}));
+  info.makeEncoder = [](const MapInfo& map, const ParamValues& params,
+                        const BuildShape&) -> std::unique_ptr<Encoder> {
     return std::make_unique<CpvsFastEncoder>(
-        map, voxelDagConfig(scheme, map, params), resolved.at("culling") == "on",
-        resolved.at("transitions") == "aligned" ? Transitions::Aligned : Transitions::NearestExit);
+        map, voxelDagConfig(map, params), params.choice("culling") == "on",
+        params.choice("transitions") == "aligned" ? Transitions::Aligned
+                                                  : Transitions::NearestExit);
   };
   return info;
 }

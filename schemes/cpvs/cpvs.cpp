@@ -107,8 +107,9 @@ class CpvsEncoder final : public CubeColumnEncoder {
 SchemeInfo cpvs() {
   SchemeInfo info = voxelDagScheme(
       "cpvs", "Sintorn, Kämpe, Olsson, Assarsson 2014, Compact Precomputed Voxelized Shadows");
-  info.makeEncoder = [](const MapInfo& map, const Params& params) -> std::unique_ptr<Encoder> {
-    return std::make_unique<CpvsEncoder>(map, voxelDagConfig(findScheme("cpvs"), map, params));
+  info.makeEncoder = [](const MapInfo& map, const ParamValues& params,
+                        const BuildShape&) -> std::unique_ptr<Encoder> {
+    return std::make_unique<CpvsEncoder>(map, voxelDagConfig(map, params));
   };
   return info;
 }

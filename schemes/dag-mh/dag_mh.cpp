@@ -25,13 +25,10 @@ struct DagMhConfig {
   int skipLevel;  // clamped to the map's levels
 };
 
-DagMhConfig dagMhConfig(const MapInfo& map, const Params& params) {
-  const SchemeInfo& scheme = findScheme("dag-mh");
-  const Params resolved = scheme.resolve(params);
+DagMhConfig dagMhConfig(const MapInfo& map, const ParamValues& params) {
   const int levels = std::countr_zero(map.resolution);
-  return {int(scheme.integer(resolved, "treelet-height")),
-          uint32_t(scheme.integer(resolved, "chunk-size")),
-          std::min(int(scheme.integer(resolved, "skip-level")), levels)};
+  return {int(params.integer("treelet-height")), uint32_t(params.integer("chunk-size")),
+          std::min(int(params.integer("skip-level")), levels)};
 }
 
 class DagMhDecoder final : public DepthDecoder<DagMhDecoder> {
@@ -102,43 +99,34 @@ SchemeInfo dagMh() {
   info.paper = "Scandolo & Eisemann 2021, DAG encoding for compressed shadow maps";
   info.kind = SchemeKind::Depth;
   info.params = {
-      {"treelet-height",
-       "levels a treelet spans: subtrees this low are bitmaps instead of inner nodes (§3.2; "
-       "§4.3 finds 4 best)",
-       "4",
-       1,
-       5,
-       {},
-       {"2", "3", "4", "5"}},
-      {"chunk-size",
-       "values per chunk of the value list: one representative and factor size each (§3.3; "
-       "Table 4 finds 32 best)",
-       "32",
-       0,
-       0,
-       {"16", "32", "64", "128"},
-       {"16", "32", "64", "128"}},
-      {"skip-level",
-       "level whose nodes a dense skip list holds, where lookups start (§3.7); 0 = the root "
-       "alone; capped at log2 R",
-       "6",
-       0,
-       10,
-       {},
-       {"0", "6"}},
+      ParamSpec::integer("treelet-height",
+                         "levels a treelet spans: subtrees this low are bitmaps instead of inner "
+                         "nodes (§3.2; §4.3 finds 4 best)",
+                         4, 1, 5, {2, 3, 4, 5}),
+      ParamSpec::integer("chunk-size",
+                         "values per chunk of the value list: one representative and factor "
+                         "size each (§3.3; Table 4 finds 32 best)",
+                         32, 16, 128, {16, 32, 64, 128})
+          .satisfying("one of 16, 32, 64, 128",
+                      [](int64_t size) { return std::has_single_bit(uint64_t(size)); }),
+      ParamSpec::integer("skip-level",
+                         "level whose nodes a dense skip list holds, where lookups start (§3.7); "
+                         "0 = the root alone; capped at log2 R",
+                         6, 0, 10, {0, 6}),
   };
   // The hierarchy (16 bytes a node) is built whole, then per node a height, a value count and a
   // DAG reference (9 bytes), and the value intervals (8 bytes each). Hierarchies keep a fraction
   // of the texels as nodes (a tenth on the full city), and the format caps values at 2^24.
-  info.buildBytes = [](const MapInfo& map, const Params&) {
+  info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape& shape) {
     const uint64_t nodes = std::min<uint64_t>(map.texelCount() / 2, uint64_t(1) << 26);
-    return MhBuilder::workingBytes(std::min<uint32_t>(map.resolution, 512)) + nodes * 32;
+    return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) + nodes * 32;
   };
-  info.makeEncoder = [](const MapInfo& map, const Params& params) -> std::unique_ptr<Encoder> {
+  info.makeEncoder = [](const MapInfo& map, const ParamValues& params,
+                        const BuildShape&) -> std::unique_ptr<Encoder> {
     return std::make_unique<DagMhEncoder>(map, dagMhConfig(map, params));
   };
   info.load = [](ByteReader& in, const MapInfo& map,
-                 const Params& params) -> std::unique_ptr<Decoder> {
+                 const ParamValues& params) -> std::unique_ptr<Decoder> {
     if (!validResolution(map.resolution))
       throw FormatError(
           fmt::format("dag-mh: resolution {} is not a valid map size", map.resolution));

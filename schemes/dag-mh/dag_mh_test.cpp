@@ -433,8 +433,8 @@ TEST_CASE("dag-mh: the encoder names its phases and counts its parts", "[dag-mh]
   CHECK(scheme.kind == SchemeKind::Depth);
   const SyntheticMap map = SyntheticMap::random(64, DepthMode::Closed, 2);
   RecordingContext context;
-  auto encoder =
-      scheme.makeEncoder(map.info(SchemeKind::Depth), scheme.resolve({{"skip-level", "2"}}));
+  auto encoder = scheme.makeEncoder(map.info(SchemeKind::Depth),
+                                    scheme.resolve({{"skip-level", "2"}}), BuildShape{16});
   map.stream(16, [&](const DualDepthTile& tile) { encoder->consume(tile, context); });
   const auto decoder = encoder->finish(context);
   CHECK(context.phases == std::vector<std::string>{"mh", "dag", "values"});

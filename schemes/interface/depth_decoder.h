@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "schemes/interface/capabilities.h"
 #include "schemes/interface/lightspace.h"
 #include "schemes/interface/scheme.h"
 
@@ -52,24 +53,13 @@ class DepthDecoder : public Decoder {
   }
 };
 
-// Depth schemes whose structure holds every coarser level of the map (the MH family: each level
-// of the hierarchy is a complete shadow map, Scandolo et al. 2016a) answer hierarchical PCF: the
-// k×k filter over the map `coarser` levels up, whose texels cover 2^coarser × 2^coarser of the
-// full map's. An approximate filter (DESIGN §4): reported against exact PCF, not checked.
-class HierarchicalLookup {
- public:
-  virtual ~HierarchicalLookup() = default;
-  virtual int levels() const = 0;  // log2 R: coarser may be 0 … levels
-  virtual void lookupCoarse(std::span<const Query> queries, int coarser, int k,
-                            std::span<float> visibility) const = 0;
-};
-
 // A DepthDecoder that also answers hierarchical PCF; Self supplies, besides resolution() and
 // depth(), float coarseDepth(uint32_t i, uint32_t j, int coarser) for texel (i, j) of the map
 // `coarser` levels up.
 template <class Self>
 class HierarchicalDepthDecoder : public DepthDecoder<Self>, public HierarchicalLookup {
  public:
+  const HierarchicalLookup* hierarchicalLookup() const final { return this; }
   int levels() const final {
     return std::countr_zero(static_cast<const Self&>(*this).resolution());
   }

@@ -3,7 +3,6 @@
 #include "schemes/interface/lightspace.h"
 
 #include <algorithm>
-#include <charconv>
 
 #include <fmt/format.h>
 
@@ -40,30 +39,6 @@ uint64_t totalBytes(const SizeBreakdown& sizes) {
 
 namespace {
 
-const ParamSpec& findParam(const SchemeInfo& scheme, std::string_view name) {
-  for (const ParamSpec& spec : scheme.params)
-    if (spec.name == name) return spec;
-  std::string known;
-  for (const ParamSpec& spec : scheme.params) known += (known.empty() ? "" : ", ") + spec.name;
-  throw ParamError(fmt::format("scheme '{}' has no parameter '{}' (its parameters: {})",
-                               scheme.name, name, known.empty() ? "none" : known));
-}
-
-void checkValue(const SchemeInfo& scheme, const ParamSpec& spec, const std::string& value) {
-  if (!spec.choices.empty()) {
-    if (std::find(spec.choices.begin(), spec.choices.end(), value) != spec.choices.end()) return;
-    throw ParamError(fmt::format("scheme '{}': parameter '{}' must be one of {}, got '{}'",
-                                 scheme.name, spec.name, fmt::join(spec.choices, ", "), value));
-  }
-  int64_t parsed = 0;
-  const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), parsed);
-  if (error != std::errc() || end != value.data() + value.size() || parsed < spec.min ||
-      parsed > spec.max)
-    throw ParamError(
-        fmt::format("scheme '{}': parameter '{}' must be an integer in [{}, {}], got '{}'",
-                    scheme.name, spec.name, spec.min, spec.max, value));
-}
-
 std::vector<SchemeInfo>& registry() {
   static std::vector<SchemeInfo> all;
   return all;
@@ -71,22 +46,8 @@ std::vector<SchemeInfo>& registry() {
 
 }  // namespace
 
-Params SchemeInfo::resolve(const Params& given) const {
-  Params resolved;
-  for (const auto& [name, value] : given) checkValue(*this, findParam(*this, name), value);
-  for (const ParamSpec& spec : params) {
-    auto it = given.find(spec.name);
-    resolved[spec.name] = it == given.end() ? spec.defaultValue : it->second;
-  }
-  return resolved;
-}
-
-int64_t SchemeInfo::integer(const Params& resolved, std::string_view param) const {
-  const ParamSpec& spec = findParam(*this, param);
-  auto it = resolved.find(param);
-  const std::string value = it == resolved.end() ? spec.defaultValue : it->second;
-  checkValue(*this, spec, value);
-  return std::stoll(value);
+ParamValues SchemeInfo::resolve(const Params& given) const {
+  return ParamValues::resolve(name, params, given);
 }
 
 const std::vector<SchemeInfo>& schemes() {

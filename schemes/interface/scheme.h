@@ -17,10 +17,14 @@
 #include <utility>
 #include <vector>
 
+#include "schemes/interface/params.h"
+
 namespace sb {
 
 class ByteReader;
 class ByteWriter;
+class HierarchicalLookup;  // schemes/interface/capabilities.h
+class VoxelOccupancy;
 
 // DESIGN §3: how the interval [lo, hi] of a texel is defined.
 enum class DepthMode { Open, Closed, Static };
@@ -77,6 +81,10 @@ class Decoder {
   virtual SizeBreakdown size() const = 0;
   // The scheme's payload; the harness wraps it in the versioned, checksummed file.
   virtual void save(ByteWriter& out) const = 0;
+
+  // Optional lookups (capabilities.h): null where the structure does not offer them.
+  virtual const HierarchicalLookup* hierarchicalLookup() const { return nullptr; }
+  virtual const VoxelOccupancy* voxelOccupancy() const { return nullptr; }
 };
 
 // The harness's side of a build: phase boundaries and counters a scheme reports, timed and
@@ -97,24 +105,10 @@ class Encoder {
   virtual std::unique_ptr<Decoder> finish(BuildContext& context) = 0;
 };
 
-// Parameter values by name, as text: the registry validates and defaults them.
-using Params = std::map<std::string, std::string, std::less<>>;
-
-// A scheme parameter, declared on the scheme's registry row. Either an integer range or a set
-// of named choices; `sweep` lists the values a parameter sweep visits.
-struct ParamSpec {
-  std::string name;
-  std::string help;
-  std::string defaultValue;
-  int64_t min = 0, max = 0;          // integer parameters (choices empty)
-  std::vector<std::string> choices;  // choice parameters
-  std::vector<std::string> sweep;
-};
-
-// A scheme parameter error names the scheme and the parameter.
-class ParamError : public std::invalid_argument {
- public:
-  using std::invalid_argument::invalid_argument;
+// How the harness shapes a build: what a scheme's working memory depends on beside the map
+// (the tile size its encoder receives; soon the part size of a build in parts).
+struct BuildShape {
+  uint32_t tileSize = 512;
 };
 
 struct SchemeInfo {
@@ -122,16 +116,17 @@ struct SchemeInfo {
   std::string paper;  // the citation, for tables and --help
   SchemeKind kind = SchemeKind::Depth;
   std::vector<ParamSpec> params;
-  // Bytes the build needs at least (for refusing a resolution that cannot fit before starting).
-  std::function<uint64_t(const MapInfo&, const Params&)> buildBytes;
-  std::function<std::unique_ptr<Encoder>(const MapInfo&, const Params&)> makeEncoder;
+  // Bytes the build needs at least, working memory and the structure it grows together: for
+  // refusing, before starting, a resolution that cannot fit.
+  std::function<uint64_t(const MapInfo&, const ParamValues&, const BuildShape&)> buildBytes;
+  std::function<std::unique_ptr<Encoder>(const MapInfo&, const ParamValues&, const BuildShape&)>
+      makeEncoder;
   // Reads a payload written by Decoder::save, validating everything: a structure that loads
   // never reads out of bounds at lookup time. Throws FormatError.
-  std::function<std::unique_ptr<Decoder>(ByteReader&, const MapInfo&, const Params&)> load;
+  std::function<std::unique_ptr<Decoder>(ByteReader&, const MapInfo&, const ParamValues&)> load;
 
   // Defaults filled in, every value checked against its spec; throws ParamError.
-  Params resolve(const Params& given) const;
-  int64_t integer(const Params& resolved, std::string_view param) const;
+  ParamValues resolve(const Params& given) const;
 };
 
 // The registry: schemes add themselves with SHADOWBENCH_REGISTER_SCHEME in their own folder.

@@ -2,6 +2,7 @@
 
 #include <fstream>
 #include <iterator>
+#include <optional>
 
 #include <fmt/format.h>
 #include <xxhash.h>
@@ -126,15 +127,17 @@ std::unique_ptr<Decoder> decodeStructureFile(std::span<const uint8_t> file,
                                   payloadBytes, reader.remaining() - sizeof(uint64_t)));
 
   const SchemeInfo* scheme = nullptr;
+  std::optional<ParamValues> params;
   try {
     scheme = &findScheme(header.scheme);
-    header.params = scheme->resolve(header.params);
+    params = scheme->resolve(header.params);
+    header.params = params->text();
   } catch (const std::invalid_argument& error) {
     throw FormatError(fmt::format("structure header: {}", error.what()));
   }
   const size_t payloadStart = file.size() - sizeof(uint64_t) - payloadBytes;
   ByteReader payload(file.subspan(payloadStart, payloadBytes));
-  auto decoder = scheme->load(payload, header.map, header.params);
+  auto decoder = scheme->load(payload, header.map, *params);
   payload.expectEnd();
   if (headerOut) *headerOut = std::move(header);
   return decoder;

@@ -43,13 +43,16 @@ SchemeInfo mh() {
   info.name = "mh";
   info.paper = "Scandolo, Bauszat & Eisemann 2016, compressed multiresolution hierarchies";
   info.kind = SchemeKind::Depth;
-  info.buildBytes = [](const MapInfo& map, const Params&) {
-    return MhBuilder::workingBytes(std::min<uint32_t>(map.resolution, 512));
+  info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape& shape) {
+    return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) +
+           MhBuilder::hierarchyFloorBytes(map);
   };
-  info.makeEncoder = [](const MapInfo& map, const Params&) -> std::unique_ptr<Encoder> {
+  info.makeEncoder = [](const MapInfo& map, const ParamValues&,
+                        const BuildShape&) -> std::unique_ptr<Encoder> {
     return std::make_unique<MhEncoder>(map);
   };
-  info.load = [](ByteReader& in, const MapInfo& map, const Params&) -> std::unique_ptr<Decoder> {
+  info.load = [](ByteReader& in, const MapInfo& map,
+                 const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<MhDecoder>(OffsetQuadtree::load(in, map, "mh"));
   };
   return info;

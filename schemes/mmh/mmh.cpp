@@ -49,21 +49,19 @@ SchemeInfo mmh() {
   info.name = "mmh";
   info.paper = "Scandolo, Bauszat & Eisemann 2016, merged multiresolution hierarchies";
   info.kind = SchemeKind::Depth;
-  info.params = {{"search-distance",
-                  "entries of a collision list each subtree is tested against (SBE16b §3.2)",
-                  "1000",
-                  0,
-                  100000000,
-                  {},
-                  {"0", "10", "100", "250", "500", "1000", "2000", "5000", "10000"}}};
-  info.buildBytes = [](const MapInfo& map, const Params&) {
-    return MhBuilder::workingBytes(std::min<uint32_t>(map.resolution, 512));
+  info.params = {ParamSpec::integer(
+      "search-distance", "entries of a collision list each subtree is tested against (SBE16b §3.2)",
+      1000, 0, 100000000, {0, 10, 100, 250, 500, 1000, 2000, 5000, 10000})};
+  info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape& shape) {
+    return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) +
+           MhBuilder::hierarchyFloorBytes(map);
   };
-  info.makeEncoder = [](const MapInfo& map, const Params& params) -> std::unique_ptr<Encoder> {
-    return std::make_unique<MmhEncoder>(
-        map, uint32_t(findScheme("mmh").integer(params, "search-distance")));
+  info.makeEncoder = [](const MapInfo& map, const ParamValues& params,
+                        const BuildShape&) -> std::unique_ptr<Encoder> {
+    return std::make_unique<MmhEncoder>(map, uint32_t(params.integer("search-distance")));
   };
-  info.load = [](ByteReader& in, const MapInfo& map, const Params&) -> std::unique_ptr<Decoder> {
+  info.load = [](ByteReader& in, const MapInfo& map,
+                 const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<MmhDecoder>(OffsetQuadtree::load(in, map, "mmh"));
   };
   return info;

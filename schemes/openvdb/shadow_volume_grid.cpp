@@ -436,13 +436,14 @@ SchemeInfo openvdbScheme() {
   info.kind = SchemeKind::Voxel;
   // Columns of texels in flight: at most a row of 128² columns across the map, as slice
   // intervals. The tree is the build's output, guarded as it grows.
-  info.buildBytes = [](const MapInfo& map, const Params&) {
+  info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape&) {
     return uint64_t(map.resolution) * kLowerSide * sizeof(SliceInterval) + (uint64_t(64) << 20);
   };
-  info.makeEncoder = [](const MapInfo& map, const Params&) -> std::unique_ptr<Encoder> {
+  info.makeEncoder = [](const MapInfo& map, const ParamValues&,
+                        const BuildShape&) -> std::unique_ptr<Encoder> {
     return std::make_unique<ShadowGridEncoder>(map);
   };
-  info.load = [](ByteReader& in, const MapInfo& map, const Params&) {
+  info.load = [](ByteReader& in, const MapInfo& map, const ParamValues&) {
     return loadShadowGrid(in, map);
   };
   return info;

@@ -101,6 +101,10 @@ uint64_t MhBuilder::workingBytes(uint32_t tileSize) {
   return uint64_t(tileSize) * tileSize * sizeof(Pending) * 5 / 4;
 }
 
+uint64_t MhBuilder::hierarchyFloorBytes(const MapInfo& map) {
+  return map.texelCount() / 64 * sizeof(MhNode);
+}
+
 MhBuilder::Pending MhBuilder::store(Pending parent, const Pending (&children)[kMhChildren]) {
   if (parent.childFlags) {
     parent.firstChild = uint32_t(hierarchy_.nodes.size());

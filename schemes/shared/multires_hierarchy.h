@@ -85,6 +85,10 @@ class MhBuilder {
   MultiresHierarchy finish();
   // The builder's working memory beyond the nodes it keeps, for SchemeInfo::buildBytes.
   static uint64_t workingBytes(uint32_t tileSize);
+  // The hierarchy the builder grows, at its smallest: a node per 64 texels, below what every
+  // scene measured so far keeps (a tenth of the texels on the full city, a 40th on the terrain
+  // closed), so that a build refused for it would not have fit.
+  static uint64_t hierarchyFloorBytes(const MapInfo& map);
 
   // A node of the bottom-up reduction before its parent decides whether to store it.
   struct Pending {

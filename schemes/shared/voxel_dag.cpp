@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "schemes/interface/capabilities.h"
 #include "schemes/interface/lightspace.h"
 #include "schemes/interface/serial.h"
 #include "schemes/interface/splitmix.h"
@@ -31,39 +32,30 @@ SchemeInfo voxelDagScheme(std::string name, std::string paper) {
   info.paper = std::move(paper);
   info.kind = SchemeKind::Voxel;
   info.params = {
-      {"leaf-layout",
-       "leafmask shape: cube4 (4×4×4 voxels, Sintorn §4) or slab8 (8×8×1 under 1×1×8 parents, "
-       "for PCF, §5)",
-       "slab8",
-       0,
-       0,
-       {"cube4", "slab8"},
-       {"cube4", "slab8"}},
-      {"grid-levels",
-       "top levels replaced by a grid of (2^n)³ pointers (Sintorn §6.2); capped at log2(R) − 3",
-       "0",
-       0,
-       8,
-       {},
-       {"0", "5", "7"}},
+      ParamSpec::choice("leaf-layout",
+                        "leafmask shape: cube4 (4×4×4 voxels, Sintorn §4) or slab8 (8×8×1 under "
+                        "1×1×8 parents, for PCF, §5)",
+                        "slab8", {"cube4", "slab8"}, {"cube4", "slab8"}),
+      ParamSpec::integer("grid-levels",
+                         "top levels replaced by a grid of (2^n)³ pointers (Sintorn §6.2); capped "
+                         "at log2(R) − 3",
+                         0, 0, 8, {0, 5, 7}),
   };
-  info.buildBytes = [](const MapInfo& map, const Params&) {
-    const uint64_t tile = std::min<uint64_t>(map.resolution, 512);
+  info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape& shape) {
+    const uint64_t tile = std::min(map.resolution, shape.tileSize);
     return tile * tile * 24 + (uint64_t(64) << 20);
   };
-  info.load = [name](ByteReader& in, const MapInfo& map, const Params& params) {
-    const VoxelDagConfig config = voxelDagConfig(findScheme(name), map, params);
+  info.load = [](ByteReader& in, const MapInfo& map, const ParamValues& params) {
+    const VoxelDagConfig config = voxelDagConfig(map, params);
     return loadVoxelDag(in, VoxelDagShape::of(map, config.layout), config.gridLevels);
   };
   return info;
 }
 
-VoxelDagConfig voxelDagConfig(const SchemeInfo& scheme, const MapInfo& map, const Params& params) {
-  const Params resolved = scheme.resolve(params);
+VoxelDagConfig voxelDagConfig(const MapInfo& map, const ParamValues& params) {
   const VoxelDagShape shape =
-      VoxelDagShape::of(map, leafLayoutFromString(resolved.at("leaf-layout")));
-  return {shape.layout,
-          std::min(uint32_t(scheme.integer(resolved, "grid-levels")), shape.leafParentDepth())};
+      VoxelDagShape::of(map, leafLayoutFromString(params.choice("leaf-layout")));
+  return {shape.layout, std::min(uint32_t(params.integer("grid-levels")), shape.leafParentDepth())};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -280,9 +272,39 @@ VoxelDag VoxelDagBuilder::finish(DagRef root, uint32_t gridLevels) {
 
 namespace {
 
-class VoxelDagDecoder final : public Decoder {
+class VoxelDagDecoder final : public Decoder, public VoxelOccupancy {
  public:
   explicit VoxelDagDecoder(VoxelDag dag) : dag_(std::move(dag)) {}
+
+  const VoxelOccupancy* voxelOccupancy() const override { return this; }
+
+  uint32_t depthOfSide(uint32_t side) const override {
+    const VoxelDagShape& shape = dag_.shape;
+    const uint32_t resolution = 1u << shape.levels;
+    const uint32_t leafParentSide = shape.side(shape.leafParentDepth());
+    if (!std::has_single_bit(side) || side < leafParentSide || side > resolution)
+      throw std::invalid_argument(
+          fmt::format("VOAA node side {} must be a power of two from {} to {}", side,
+                      leafParentSide, resolution));
+    const uint32_t depth = shape.levels - uint32_t(std::countr_zero(side));
+    if (depth < dag_.gridLevels)
+      throw std::invalid_argument(fmt::format(
+          "VOAA node side {} is depth {}, which the top-level grid ({} levels) replaces", side,
+          depth, dag_.gridLevels));
+    return depth;
+  }
+
+  void litFraction(std::span<const Query> queries, uint32_t depth,
+                   std::span<float> fraction) const override {
+    const uint32_t resolution = 1u << dag_.shape.levels;
+    for (size_t q = 0; q < queries.size(); ++q) {
+      const int64_t i = texelOf(queries[q].x, resolution), j = texelOf(queries[q].y, resolution);
+      fraction[q] =
+          insideMap(i, j, resolution)
+              ? occupancy(uint32_t(i), uint32_t(j), voxelOf(queries[q].z, resolution), depth)
+              : 1.0f;
+    }
+  }
 
   void lookup(std::span<const Query> queries, int k, std::span<float> visibility) const override {
     checkLookupArguments(queries, k, visibility);
@@ -435,32 +457,12 @@ class VoxelDagDecoder final : public Decoder {
   }
 
   VoxelDag dag_;
-  friend void sb::voxelOccupancy(const Decoder&, std::span<const Query>, uint32_t,
-                                 std::span<float>);
 };
 
 }  // namespace
 
 std::unique_ptr<Decoder> makeVoxelDagDecoder(VoxelDag dag) {
   return std::make_unique<VoxelDagDecoder>(std::move(dag));
-}
-
-void voxelOccupancy(const Decoder& decoder, std::span<const Query> queries, uint32_t depth,
-                    std::span<float> litFraction) {
-  const auto* dag = dynamic_cast<const VoxelDagDecoder*>(&decoder);
-  if (!dag) throw std::invalid_argument("VOAA lookups need a CPVS structure");
-  const uint32_t resolution = 1u << dag->dag_.shape.levels;
-  for (size_t q = 0; q < queries.size(); ++q) {
-    const int64_t i = texelOf(queries[q].x, resolution), j = texelOf(queries[q].y, resolution);
-    litFraction[q] =
-        insideMap(i, j, resolution)
-            ? dag->occupancy(uint32_t(i), uint32_t(j), voxelOf(queries[q].z, resolution), depth)
-            : 1.0f;
-  }
-}
-
-bool readsVoxelOccupancy(const Decoder& decoder) {
-  return dynamic_cast<const VoxelDagDecoder*>(&decoder) != nullptr;
 }
 
 std::unique_ptr<Decoder> loadVoxelDag(ByteReader& in, const VoxelDagShape& shape,

@@ -82,7 +82,7 @@ struct VoxelDagConfig {
   LeafLayout layout;
   uint32_t gridLevels;
 };
-VoxelDagConfig voxelDagConfig(const SchemeInfo& scheme, const MapInfo& map, const Params& params);
+VoxelDagConfig voxelDagConfig(const MapInfo& map, const ParamValues& params);
 
 // The final structure. Nodes are stored depth by depth from the grid's depth down to the leaf
 // parents: a header word (childmask in the low 16 bits; the VOAA occupancy, the fraction of the
@@ -128,13 +128,5 @@ std::unique_ptr<Decoder> makeVoxelDagDecoder(VoxelDag dag);
 // Reads and validates what the decoder's save() wrote; throws FormatError.
 std::unique_ptr<Decoder> loadVoxelDag(ByteReader& in, const VoxelDagShape& shape,
                                       uint32_t gridLevels);
-
-// Sintorn §5 VOAA: the lit fraction of the node at `depth` containing each query's voxel, read
-// from the occupancy in its header (an approximate filter for distant lookups; exact lookups use
-// Decoder::lookup). Throws std::invalid_argument unless `decoder` is a CPVS decoder.
-void voxelOccupancy(const Decoder& decoder, std::span<const Query> queries, uint32_t depth,
-                    std::span<float> litFraction);
-// Whether `decoder` is a CPVS decoder, which voxelOccupancy reads (other voxel schemes are not).
-bool readsVoxelOccupancy(const Decoder& decoder);
 
 }  // namespace sb

@@ -8,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "schemes/interface/capabilities.h"
 #include "schemes/interface/lightspace.h"
 #include "schemes/shared/slice_interval.h"
 #include "schemes/shared/svo.h"
@@ -175,7 +176,7 @@ TEST_CASE("awkward maps: undefined columns, tile-border boundaries, an empty lig
       // in the grid.
       const SyntheticMap larger = SyntheticMap::uniform(4 * r, uniform->lo[0], uniform->hi[0]);
       CHECK(totalBytes(decoder->size()) == totalBytes(larger.build(*scheme, {}, tile)->size()));
-      if (readsVoxelOccupancy(*decoder)) CHECK(totalBytes(decoder->size()) == sizeof(DagRef));
+      if (decoder->voxelOccupancy()) CHECK(totalBytes(decoder->size()) == sizeof(DagRef));
     }
   }
 }
@@ -228,7 +229,7 @@ TEST_CASE("VOAA occupancy is the lit fraction of the node's voxels", "[voxel]") 
   for (const char* name : {"cpvs", "cpvs-fast"}) {  // the CPVS-format schemes
     const SchemeInfo* scheme = &findScheme(name);
     const auto decoder = map.build(*scheme, {}, 16);
-    REQUIRE(readsVoxelOccupancy(*decoder));
+    REQUIRE(decoder->voxelOccupancy());
     // Depth 3 holds 8³ cubes (the leaf parents at 64³); depth 0 the whole volume.
     for (uint32_t depth : {0u, 1u, 3u}) {
       const uint32_t side = 64u >> depth;
@@ -243,7 +244,7 @@ TEST_CASE("VOAA occupancy is the lit fraction of the node's voxels", "[voxel]") 
         std::vector<float> answers(queries.size()), occupancy(1);
         decoder->lookup(queries, 1, answers);
         for (float a : answers) lit += a == 1.0f;
-        voxelOccupancy(*decoder, {&queries[0], 1}, depth, occupancy);
+        decoder->voxelOccupancy()->litFraction({&queries[0], 1}, depth, occupancy);
         INFO(scheme->name << " depth " << depth << " cube " << cube);
         CHECK(occupancy[0] == Approx(double(lit) / double(queries.size())).margin(1.0 / 65535));
       }

@@ -25,12 +25,8 @@ constexpr const char* kScheme = "sm-zstd";
 
 // The block side a structure of resolution R uses: the `block` parameter, but never more than
 // the map itself (a map smaller than a block is one block).
-uint32_t blockSideOf(const SchemeInfo& scheme, const Params& params, uint32_t resolution) {
-  const int64_t block = scheme.integer(params, "block");
-  if (!std::has_single_bit(uint64_t(block)))
-    throw ParamError(fmt::format("scheme '{}': parameter 'block' must be a power of two, got '{}'",
-                                 scheme.name, block));
-  return std::min<uint32_t>(uint32_t(block), resolution);
+uint32_t blockSideOf(const ParamValues& params, uint32_t resolution) {
+  return std::min<uint32_t>(uint32_t(params.integer("block")), resolution);
 }
 
 // Decompresses one block frame into `texels` (blockTexels floats) with `context`; false if the
@@ -241,34 +237,28 @@ SchemeInfo smZstd() {
   info.name = kScheme;
   info.paper = "float32 shadow map in square blocks, each compressed with zstd (reference codec)";
   info.kind = SchemeKind::Depth;
-  info.params = {{"block",
-                  "texels per side of a block compressed on its own (a power of two)",
-                  "64",
-                  8,
-                  1024,
-                  {},
-                  {"32", "64", "128", "256"}},
-                 {"level", "zstd compression level", "3", 1, 19, {}, {"1", "3", "9", "19"}}};
-  // What the build needs at least: the blocks in flight, at most a row of them. The frames
-  // depend on the data (below the raw map; 57% of it on the city), so they are not counted.
-  info.buildBytes = [](const MapInfo& map, const Params& params) {
-    const uint64_t side = blockSideOf(findScheme(kScheme), params, map.resolution);
-    return uint64_t(map.resolution) * side * sizeof(float);
+  info.params = {ParamSpec::integer("block", "texels per side of a block compressed on its own", 64,
+                                    8, 1024, {32, 64, 128, 256})
+                     .satisfying("a power of two",
+                                 [](int64_t side) { return std::has_single_bit(uint64_t(side)); }),
+                 ParamSpec::integer("level", "zstd compression level", 3, 1, 19, {1, 3, 9, 19})};
+  // The blocks in flight, at most a row of them, and the frames' array, which the encoder
+  // reserves at the raw map's compression bound: the frames depend on the data (below the raw
+  // map; 57% of it on the city), and the kernel commits a reservation it cannot back only at
+  // the cost of refusing it (std::bad_alloc at 128K²).
+  info.buildBytes = [](const MapInfo& map, const ParamValues& params, const BuildShape&) {
+    const uint64_t side = blockSideOf(params, map.resolution);
+    return uint64_t(map.resolution) * side * sizeof(float) +
+           ZSTD_compressBound(map.texelCount() * sizeof(float));
   };
-  info.makeEncoder = [](const MapInfo& map, const Params& params) -> std::unique_ptr<Encoder> {
-    const SchemeInfo& scheme = findScheme(kScheme);
-    return std::make_unique<SmZstdEncoder>(map, blockSideOf(scheme, params, map.resolution),
-                                           int(scheme.integer(params, "level")));
+  info.makeEncoder = [](const MapInfo& map, const ParamValues& params,
+                        const BuildShape&) -> std::unique_ptr<Encoder> {
+    return std::make_unique<SmZstdEncoder>(map, blockSideOf(params, map.resolution),
+                                           int(params.integer("level")));
   };
   info.load = [](ByteReader& in, const MapInfo& map,
-                 const Params& params) -> std::unique_ptr<Decoder> {
-    const SchemeInfo& scheme = findScheme(kScheme);
-    uint32_t side = 0;
-    try {
-      side = blockSideOf(scheme, params, map.resolution);
-    } catch (const ParamError& error) {
-      throw FormatError(fmt::format("{}: {}", kScheme, error.what()));
-    }
+                 const ParamValues& params) -> std::unique_ptr<Decoder> {
+    const uint32_t side = blockSideOf(params, map.resolution);
     const uint64_t perRow = map.resolution / side;
     auto offsets = in.getArray<uint64_t>("sm-zstd block offsets", perRow * perRow + 1);
     auto blocks = in.getArray<uint8_t>("sm-zstd blocks");

@@ -53,7 +53,8 @@ TEST_CASE("sm-zstd lays out blocks completed in any tile order", "[sm-zstd]") {
   const SchemeInfo& scheme = findScheme("sm-zstd");
   for (const char* block : {"8", "32"}) {
     CAPTURE(block);
-    auto encoder = scheme.makeEncoder(map.info(scheme.kind), scheme.resolve({{"block", block}}));
+    auto encoder = scheme.makeEncoder(map.info(scheme.kind), scheme.resolve({{"block", block}}),
+                                      BuildShape{16});
     testing::NullBuildContext context;
     std::vector<DualDepthTile> tiles;
     map.stream(16, [&](const DualDepthTile& tile) { tiles.push_back(tile); });
@@ -103,8 +104,8 @@ TEST_CASE("sm-zstd refuses block sizes that are not powers of two", "[sm-zstd]")
 TEST_CASE("sm-zstd rejects damaged block offsets and frames at load", "[sm-zstd][format]") {
   const SchemeInfo& scheme = findScheme("sm-zstd");
   const SyntheticMap map = SyntheticMap::random(32, DepthMode::Closed, 4);
-  const Params params = scheme.resolve({{"block", "8"}});
-  const auto decoder = map.build(scheme, params, 16);
+  const ParamValues params = scheme.resolve({{"block", "8"}});
+  const auto decoder = map.build(scheme, params.text(), 16);
   ByteWriter writer;
   decoder->save(writer);
   const std::vector<uint8_t> payload = writer.bytes();

@@ -50,13 +50,15 @@ SchemeInfo sm32() {
   info.name = "sm32";
   info.paper = "Williams 1978, plain float32 shadow map (baseline)";
   info.kind = SchemeKind::Depth;
-  info.buildBytes = [](const MapInfo& map, const Params&) {
+  info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape&) {
     return map.texelCount() * sizeof(float);
   };
-  info.makeEncoder = [](const MapInfo& map, const Params&) -> std::unique_ptr<Encoder> {
+  info.makeEncoder = [](const MapInfo& map, const ParamValues&,
+                        const BuildShape&) -> std::unique_ptr<Encoder> {
     return std::make_unique<Sm32Encoder>(map);
   };
-  info.load = [](ByteReader& in, const MapInfo& map, const Params&) -> std::unique_ptr<Decoder> {
+  info.load = [](ByteReader& in, const MapInfo& map,
+                 const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<Sm32Decoder>(map.resolution,
                                          in.getArray<float>("sm32 depths", map.texelCount()));
   };

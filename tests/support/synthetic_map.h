@@ -86,7 +86,8 @@ struct SyntheticMap {
   std::unique_ptr<Decoder> build(const SchemeInfo& scheme, const Params& params,
                                  uint32_t tileSize) const {
     NullBuildContext context;
-    auto encoder = scheme.makeEncoder(info(scheme.kind), scheme.resolve(params));
+    auto encoder =
+        scheme.makeEncoder(info(scheme.kind), scheme.resolve(params), BuildShape{tileSize});
     stream(tileSize, [&](const DualDepthTile& tile) { encoder->consume(tile, context); });
     return encoder->finish(context);
   }
