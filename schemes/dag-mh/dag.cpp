@@ -102,7 +102,7 @@ std::vector<uint8_t> dropUnreachable(Dag& dag) {
     const uint32_t w = starts[s], header = dag.innerNodes[w];
     if (!innerUsed[w]) continue;
     for (uint32_t k = 0, p = w + 1; k < kMhChildren; ++k) {
-      const uint32_t flag = (header >> (2 * k)) & 3;
+      const uint32_t flag = childFlag(header, k);
       if (flag == kNoChild) continue;
       (flag == kTreeletChild ? treeletUsed : innerUsed)[dag.innerNodes[p++]] = 1;
     }
@@ -121,7 +121,7 @@ std::vector<uint8_t> dropUnreachable(Dag& dag) {
     const uint32_t header = dag.innerNodes[w];
     inner.push_back(header);
     for (uint32_t k = 0, p = w + 1; k < kMhChildren; ++k) {
-      const uint32_t flag = (header >> (2 * k)) & 3;
+      const uint32_t flag = childFlag(header, k);
       if (flag == kNoChild) continue;
       const uint32_t child = dag.innerNodes[p++];
       inner.push_back(flag == kTreeletChild ? treeletIndex[child] : innerOffset[child]);
@@ -335,7 +335,7 @@ Dag Dag::load(ByteReader& in, int levels, int treeletHeight, int skipLevel, uint
     uint64_t values = 0;
     int height = 0;
     for (uint32_t k = 0, p = uint32_t(w) + 1; k < kMhChildren; ++k) {
-      const uint32_t flag = (header >> (2 * k)) & 3;
+      const uint32_t flag = childFlag(header, k);
       if (flag == kNoChild) continue;
       const uint32_t child = dag.innerNodes[p++];
       if (flag == kTreeletChild) {

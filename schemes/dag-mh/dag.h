@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "schemes/dag-mh/treelet.h"
+#include "schemes/shared/child_flags.h"
 #include "schemes/shared/multires_hierarchy.h"
 
 namespace sb {
@@ -78,14 +79,14 @@ struct Dag {
       const uint32_t* node = innerNodes.data() + at.node;
       const uint32_t header = node[0];
       const int c = mhChildIndex(i, j, levels - at.level - 1);
-      const uint32_t flag = (header >> (2 * c)) & 3;
+      const uint32_t flag = childFlag(header, c);
       if (flag == kNoChild) {
         at.kind = Traversal::kNone;
         return;
       }
       const uint32_t* pointer = node + 1;
       for (int k = 0; k < c; ++k) {
-        const uint32_t before = (header >> (2 * k)) & 3;
+        const uint32_t before = childFlag(header, k);
         if (before == kNoChild) continue;
         at.valueStart += before == kTreeletChild ? treelet.count(treeletAt(*pointer))
                                                  : (before == kFullInner) + innerCount(*pointer);

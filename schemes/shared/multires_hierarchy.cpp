@@ -109,7 +109,7 @@ MhBuilder::Pending MhBuilder::store(Pending parent, const Pending (&children)[kM
   if (parent.childFlags) {
     parent.firstChild = uint32_t(hierarchy_.nodes.size());
     for (int k = 0; k < kMhChildren; ++k)
-      if ((parent.childFlags >> (2 * k) & 3) != uint8_t(MhChild::None))
+      if (childFlag(parent.childFlags, k) != uint32_t(MhChild::None))
         hierarchy_.nodes.push_back(
             MhNode{children[k].interval, children[k].firstChild, children[k].childFlags});
   }

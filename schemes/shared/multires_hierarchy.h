@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "schemes/interface/scheme.h"
+#include "schemes/shared/child_flags.h"
 
 namespace sb {
 
@@ -51,7 +52,7 @@ struct MhNode {
   KeyInterval interval;     // Full and Leaf nodes: the interval their value must lie in
   uint32_t firstChild = 0;  // index in MultiresHierarchy::nodes of the first existing child
   uint8_t childFlags = 0;   // MhChild of child k in bits 2k, 2k+1
-  MhChild child(int k) const { return MhChild((childFlags >> (2 * k)) & 3); }
+  MhChild child(int k) const { return MhChild(childFlag(childFlags, k)); }
   bool hasChildren() const { return childFlags != 0; }
 };
 

@@ -188,7 +188,7 @@ OffsetQuadtree OffsetQuadtree::load(ByteReader& in, const MapInfo& map, const ch
       throw FormatError(fmt::format("{}: children of the node at word {} lie outside the nodes",
                                     scheme, visit.position));
     for (int k = 0; k < kMhChildren; ++k) {
-      const MhChild kind = MhChild((flags >> (2 * k)) & 3);
+      const MhChild kind = MhChild(childFlag(flags, k));
       if (kind == MhChild::None) continue;
       const uint64_t at = first + siblingWords(flags, k);
       const uint64_t bit = uint64_t(1) << (3 * visit.level + int(kind) - 1);

@@ -16,6 +16,7 @@
 
 #include "schemes/interface/depth_decoder.h"
 #include "schemes/interface/serial.h"
+#include "schemes/shared/child_flags.h"
 #include "schemes/shared/multires_hierarchy.h"
 
 namespace sb {
@@ -41,7 +42,7 @@ struct OffsetQuadtree {
       const uint32_t link = words[position + (kind == MhChild::Full)];
       const uint32_t flags = link & 0xff;
       const int k = mhChildIndex(i, j, levels - level - 1);
-      const MhChild child = MhChild((flags >> (2 * k)) & 3);
+      const MhChild child = MhChild(childFlag(flags, k));
       if (child == MhChild::None) break;
       position += uint64_t(link >> 8) * levelScale[level] + siblingWords(flags, k);
       kind = child;
@@ -54,7 +55,7 @@ struct OffsetQuadtree {
   // Words taken by the children before child k, from the parent's flags.
   static uint32_t siblingWords(uint32_t flags, int k) {
     uint32_t words = 0;
-    for (int m = 0; m < k; ++m) words += kindWords(MhChild((flags >> (2 * m)) & 3));
+    for (int m = 0; m < k; ++m) words += kindWords(MhChild(childFlag(flags, m)));
     return words;
   }
   static uint32_t kindWords(MhChild kind) {

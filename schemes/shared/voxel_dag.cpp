@@ -9,6 +9,7 @@
 #include "schemes/interface/lightspace.h"
 #include "schemes/interface/serial.h"
 #include "schemes/interface/splitmix.h"
+#include "schemes/shared/child_flags.h"
 
 namespace sb {
 
@@ -109,7 +110,7 @@ struct VoxelDagBuilder::Table {
 namespace {
 
 uint32_t childCode(uint32_t header, uint32_t child) {
-  return (header >> (2 * child)) & 3;
+  return childFlag(header, int(child));
 }
 // Bit 2c is set for each partial child c (code 0b10).
 uint32_t partialBits(uint32_t header) {
