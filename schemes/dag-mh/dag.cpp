@@ -9,6 +9,7 @@
 #include "schemes/dag-mh/value_chunks.h"
 #include "schemes/interface/serial.h"
 #include "schemes/interface/splitmix.h"
+#include "schemes/shared/hash_cons.h"
 
 namespace sb::dag_mh {
 
@@ -24,31 +25,25 @@ bool hasValue(MhChild type) {
 }
 
 // §3.1: each node content stored once. Sequences of words, concatenated in the order they were
-// first added; a sequence is found by its full content, the hash only picks the slot (open
-// addressing, each entry's hash kept so that growing never rereads contents).
+// first added; a sequence is found by its full content.
 class UniqueWords {
  public:
   // The word offset of a stored sequence equal to `words`, else of `words`, appended.
   uint32_t findOrAdd(std::span<const uint32_t> words) {
     uint64_t hash = mixBits(words.size());
     for (const uint32_t word : words) hash = mixBits(hash ^ word);
-    if ((entries_.size() + 1) * 2 > slots_.size()) grow();
-    const size_t mask = slots_.size() - 1;
-    for (size_t s = hash & mask;; s = (s + 1) & mask) {
-      if (slots_[s] == 0) {
-        if (words_.size() + words.size() > ~uint32_t(0))
-          throw std::runtime_error("dag-mh: the DAG exceeds 2^32 words");
-        const uint32_t offset = uint32_t(words_.size());
-        entries_.push_back({offset, uint32_t(words.size()), hash});
-        slots_[s] = uint32_t(entries_.size());
-        words_.insert(words_.end(), words.begin(), words.end());
-        return offset;
-      }
-      const Entry& entry = entries_[slots_[s] - 1];
-      if (entry.hash == hash && entry.length == words.size() &&
-          std::equal(words.begin(), words.end(), words_.begin() + entry.offset))
-        return entry.offset;
-    }
+    const auto [id, added] = index_.findOrAdd(hash, [&](uint32_t other) {
+      const Entry& entry = entries_[other];
+      return entry.length == words.size() &&
+             std::equal(words.begin(), words.end(), words_.begin() + entry.offset);
+    });
+    if (!added) return entries_[id].offset;
+    if (words_.size() + words.size() > ~uint32_t(0))
+      throw std::runtime_error("dag-mh: the DAG exceeds 2^32 words");
+    const uint32_t offset = uint32_t(words_.size());
+    entries_.push_back({offset, uint32_t(words.size())});
+    words_.insert(words_.end(), words.begin(), words.end());
+    return offset;
   }
 
   size_t count() const { return entries_.size(); }
@@ -57,22 +52,11 @@ class UniqueWords {
  private:
   struct Entry {
     uint32_t offset, length;
-    uint64_t hash;
   };
 
-  void grow() {
-    slots_.assign(std::max<size_t>(1024, slots_.size() * 2), 0);
-    const size_t mask = slots_.size() - 1;
-    for (size_t e = 0; e < entries_.size(); ++e) {
-      size_t s = entries_[e].hash & mask;
-      while (slots_[s] != 0) s = (s + 1) & mask;
-      slots_[s] = uint32_t(e + 1);
-    }
-  }
-
   std::vector<uint32_t> words_;
-  std::vector<Entry> entries_;
-  std::vector<uint32_t> slots_;  // entry index + 1, 0 = empty
+  std::vector<Entry> entries_;  // id → its words
+  HashConsIndex index_;
 };
 
 void packSkipEntry(const Traversal& at, uint32_t* entry) {

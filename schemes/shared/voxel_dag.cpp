@@ -10,6 +10,7 @@
 #include "schemes/interface/serial.h"
 #include "schemes/interface/splitmix.h"
 #include "schemes/shared/child_flags.h"
+#include "schemes/shared/hash_cons.h"
 
 namespace sb {
 
@@ -64,46 +65,22 @@ VoxelDagConfig voxelDagConfig(const MapInfo& map, const ParamValues& params) {
 
 // One depth's unique table: open addressing over ids, each id's full hash kept so that growing
 // never rehashes contents and most mismatches are rejected without touching them.
+// One depth's distinct nodes, or the distinct leafmasks.
 struct VoxelDagBuilder::Table {
   std::vector<uint32_t> words;    // node depths: every node's words, concatenated
   std::vector<uint32_t> offsets;  // node depths: id → its first word
   std::vector<uint64_t> masks;    // the leafmask table: id → mask
-  std::vector<uint64_t> hashes;   // id → hash
-  std::vector<uint32_t> slots;    // id + 1, 0 = empty
+  HashConsIndex index;
 
-  size_t count() const { return hashes.size(); }
+  size_t count() const { return index.count(); }
 
-  // The id of an entry with this hash for which same(id) holds; otherwise the next id, added.
+  // The id of a stored entry with this hash for which same(id) holds; otherwise a new id.
   template <class Same>
-  uint32_t findOrAdd(uint64_t hash, Same&& same, bool& added) {
-    if ((hashes.size() + 1) * 2 > slots.size()) grow();
-    const size_t mask = slots.size() - 1;
-    for (size_t i = hash & mask;; i = (i + 1) & mask) {
-      if (slots[i] == 0) {
-        if (hashes.size() >= kShadowedRef)
-          throw std::runtime_error("CPVS: more than 2^32 − 2 nodes at one depth");
-        const uint32_t id = uint32_t(hashes.size());
-        hashes.push_back(hash);
-        slots[i] = id + 1;
-        added = true;
-        return id;
-      }
-      const uint32_t id = slots[i] - 1;
-      if (hashes[id] == hash && same(id)) {
-        added = false;
-        return id;
-      }
-    }
-  }
-
-  void grow() {
-    slots.assign(std::max<size_t>(1024, slots.size() * 2), 0);
-    const size_t mask = slots.size() - 1;
-    for (uint32_t id = 0; id < hashes.size(); ++id) {
-      size_t i = hashes[id] & mask;
-      while (slots[i] != 0) i = (i + 1) & mask;
-      slots[i] = id + 1;
-    }
+  std::pair<uint32_t, bool> findOrAdd(uint64_t hash, Same&& same) {
+    const auto found = index.findOrAdd(hash, same);
+    if (found.second && found.first >= kShadowedRef)
+      throw std::runtime_error("CPVS: more than 2^32 − 2 nodes at one depth");
+    return found;
   }
 };
 
@@ -137,9 +114,8 @@ DagRef VoxelDagBuilder::leafmask(uint64_t litVoxels) {
   if (litVoxels == ~uint64_t(0)) return kLitRef;
   if (litVoxels == 0) return kShadowedRef;
   Table& table = *leafmasks_;
-  bool added = false;
-  const uint32_t id = table.findOrAdd(
-      mixBits(litVoxels), [&](uint32_t other) { return table.masks[other] == litVoxels; }, added);
+  const auto [id, added] = table.findOrAdd(
+      mixBits(litVoxels), [&](uint32_t other) { return table.masks[other] == litVoxels; });
   if (added) table.masks.push_back(litVoxels);
   return id;
 }
@@ -169,14 +145,10 @@ DagRef VoxelDagBuilder::node(uint32_t depth, const std::array<DagRef, 8>& childr
       hash = mixBits(hash ^ children[c]);
     }
   const uint32_t length = uint32_t(table.words.size()) - begin;
-  bool added = false;
-  const uint32_t id = table.findOrAdd(
-      hash,
-      [&](uint32_t other) {
-        const uint32_t* a = table.words.data() + table.offsets[other];
-        return a[0] == header && std::equal(a + 1, a + length, table.words.data() + begin + 1);
-      },
-      added);
+  const auto [id, added] = table.findOrAdd(hash, [&](uint32_t other) {
+    const uint32_t* a = table.words.data() + table.offsets[other];
+    return a[0] == header && std::equal(a + 1, a + length, table.words.data() + begin + 1);
+  });
   if (added)
     table.offsets.push_back(begin);
   else
