@@ -84,7 +84,7 @@ ValueChunks::ValueChunks(std::span<const KeyInterval> intervals, uint32_t chunkS
         c * chunkSize, std::min<size_t>(chunkSize, intervals.size() - c * chunkSize));
     uint8_t* info = infos_.data() + c * infoBytes();
     const uint32_t representative = chooseRepresentative(chunk);
-    std::memcpy(info, &representative, 4);
+    std::memcpy(info + kRepresentativeAt, &representative, 4);
 
     // The values the representative does not cover; the lowest lower bound v_l and the highest
     // upper bound v_h among them span the factors. An open-ended interval (hi = +inf, the empty
@@ -94,7 +94,7 @@ ValueChunks::ValueChunks(std::span<const KeyInterval> intervals, uint32_t chunkS
     for (uint32_t v = 0; v < chunk.size(); ++v) {
       const KeyInterval& interval = chunk[v];
       if (interval.lo <= representative && representative <= interval.hi) {
-        info[16 + v / 8] |= uint8_t(1u << (v % 8));
+        info[kCoverageAt + v / 8] |= uint8_t(1u << (v % 8));
         continue;
       }
       uncovered.push_back(interval);
@@ -131,13 +131,13 @@ ValueChunks::ValueChunks(std::span<const KeyInterval> intervals, uint32_t chunkS
         for (const KeyInterval& interval : uncovered) factors.push_back(interval.lo);
       }
     }
-    std::memcpy(info + 4, &cl, 4);
-    std::memcpy(info + 8, &cf, 4);
+    std::memcpy(info + kFactorLowAt, &cl, 4);
+    std::memcpy(info + kFactorStepAt, &cf, 4);
     if (factors_.size() + factors.size() * bytes > kMaxFactorBytes)
       throw std::runtime_error(fmt::format(
           "dag-mh: the factors exceed the {} bytes 30-bit offsets address", kMaxFactorBytes));
-    const uint32_t reference = uint32_t(factors_.size()) | (bytes - 1) << 30;
-    std::memcpy(info + 12, &reference, 4);
+    const uint32_t reference = uint32_t(factors_.size()) | (bytes - 1) << kFactorBytesShift;
+    std::memcpy(info + kFactorReferenceAt, &reference, 4);
     for (const uint32_t factor : factors)
       factors_.insert(factors_.end(), reinterpret_cast<const uint8_t*>(&factor),
                       reinterpret_cast<const uint8_t*>(&factor) + bytes);
@@ -171,13 +171,14 @@ ValueChunks ValueChunks::load(ByteReader& in, uint32_t chunkSize, uint32_t value
     const uint32_t values = uint32_t(std::min<uint64_t>(chunkSize, valueCount - c * chunkSize));
     uint32_t covered = 0;
     for (uint32_t v = 0; v < chunkSize; ++v) {
-      const bool bit = (info[16 + v / 8] >> (v % 8)) & 1;
+      const bool bit = (info[kCoverageAt + v / 8] >> (v % 8)) & 1;
       if (bit && v >= values)
         throw FormatError(
             fmt::format("dag-mh: chunk {} covers value {} but holds only {} values", c, v, values));
       covered += bit;
     }
-    const uint32_t reference = read<uint32_t>(info + 12), bytes = (reference >> 30) + 1;
+    const uint32_t reference = read<uint32_t>(info + kFactorReferenceAt),
+                   bytes = (reference >> kFactorBytesShift) + 1;
     if ((reference & kOffsetMask) != offset)
       throw FormatError(fmt::format("dag-mh: chunk {} factor offset {} where {} was expected", c,
                                     reference & kOffsetMask, offset));
@@ -186,12 +187,11 @@ ValueChunks ValueChunks::load(ByteReader& in, uint32_t chunkSize, uint32_t value
       throw FormatError(fmt::format("dag-mh: chunk {} factors end at byte {} of {}", c, offset,
                                     chunks.factors_.size()));
     // Stored floats are depths (non-negative, not NaN), so every answer is one too.
-    for (const uint32_t at : {0u, 4u, 8u})
+    for (const auto& [at, field] :
+         {std::pair{kRepresentativeAt, "representative"}, std::pair{kFactorLowAt, "c_l"},
+          std::pair{kFactorStepAt, "c_f"}})
       if (read<uint32_t>(info + at) > kInfinityKey)
-        throw FormatError(fmt::format("dag-mh: chunk {} {} is not a depth", c,
-                                      at == 0   ? "representative"
-                                      : at == 4 ? "c_l"
-                                                : "c_f"));
+        throw FormatError(fmt::format("dag-mh: chunk {} {} is not a depth", c, field));
     if (bytes == 4)
       for (uint64_t f = offset - uint64_t(values - covered) * 4; f < offset; f += 4)
         if (read<uint32_t>(chunks.factors_.data() + f) > kInfinityKey)

@@ -55,7 +55,7 @@ class ValueChunks {
 
   uint32_t chunkSize() const { return chunkSize_; }
   uint32_t valueCount() const { return valueCount_; }
-  uint32_t infoBytes() const { return 16 + chunkSize_ / 8; }
+  uint32_t infoBytes() const { return kCoverageAt + chunkSize_ / 8; }
   uint64_t infoSize() const { return infos_.size(); }
   uint64_t factorSize() const { return factors_.size(); }
 
@@ -63,20 +63,20 @@ class ValueChunks {
   float value(uint32_t index) const {
     const uint8_t* info = infos_.data() + size_t(index >> chunkShift_) * infoBytes();
     const uint32_t v = index & (chunkSize_ - 1);
-    const uint8_t* mask = info + 16;
-    if ((mask[v / 8] >> (v % 8)) & 1) return read<float>(info);
+    const uint8_t* mask = info + kCoverageAt;
+    if ((mask[v / 8] >> (v % 8)) & 1) return read<float>(info + kRepresentativeAt);
     uint32_t coveredBefore = 0;
     for (uint32_t w = 0; w < v / 64; ++w)
       coveredBefore += std::popcount(read<uint64_t>(mask + 8 * w));
     coveredBefore += std::popcount(readBits(mask + 8 * (v / 64), v % 64));
-    const uint32_t reference = read<uint32_t>(info + 12);
-    const uint32_t bytes = (reference >> 30) + 1;
+    const uint32_t reference = read<uint32_t>(info + kFactorReferenceAt);
+    const uint32_t bytes = (reference >> kFactorBytesShift) + 1;
     const uint8_t* at =
         factors_.data() + (reference & kOffsetMask) + size_t(v - coveredBefore) * bytes;
     uint32_t factor = 0;
     std::memcpy(&factor, at, bytes);  // little-endian machines only, like the whole file format
     if (bytes == 4) return std::bit_cast<float>(factor);
-    return factorValue(read<float>(info + 4), read<float>(info + 8), factor);
+    return factorValue(read<float>(info + kFactorLowAt), read<float>(info + kFactorStepAt), factor);
   }
 
   void save(ByteWriter& out) const;
@@ -85,7 +85,11 @@ class ValueChunks {
   static ValueChunks load(ByteReader& in, uint32_t chunkSize, uint32_t valueCount);
 
  private:
-  static constexpr uint32_t kOffsetMask = (1u << 30) - 1;
+  // The chunk info's fields, by byte offset (the layout above).
+  static constexpr uint32_t kRepresentativeAt = 0, kFactorLowAt = 4, kFactorStepAt = 8,
+                            kFactorReferenceAt = 12, kCoverageAt = 16;
+  static constexpr uint32_t kFactorBytesShift = 30;  // the factor reference's byte-count bits
+  static constexpr uint32_t kOffsetMask = (1u << kFactorBytesShift) - 1;
 
   template <class T>
   static T read(const uint8_t* at) {
