@@ -131,7 +131,7 @@ nlohmann::json runCell(const CellSpec& cell, const Scene& scene, const CellOptio
 
   if (options.benchLookups) {
     nlohmann::json timings = nlohmann::json::array();
-    const QuerySet sets[] = {uniformQueries(1 << 22, 7), viewSamples(scene, source, 1920, 1080, 2)};
+    const QuerySet sets[] = {standardUniformQueries(), standardViewQueries(scene, source)};
     for (const QuerySet& set : sets)
       for (int k : options.filters) timings.push_back(timeLookups(*built.decoder, set, k).toJson());
     record["lookup"] = timings;

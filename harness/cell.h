@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/build.h"
+#include "harness/query_sets.h"
 #include "harness/verify.h"
 #include "scenes/scene.h"
 
@@ -29,7 +30,7 @@ struct CellOptions {
   bool verify = true;
   VerifyOptions verifyOptions;
   bool benchLookups = true;
-  std::vector<int> filters{1, 3, 5, 9, 17};
+  std::vector<int> filters{std::begin(kStandardFilters), std::end(kStandardFilters)};
   std::optional<std::filesystem::path> saveStructureTo;
 };
 

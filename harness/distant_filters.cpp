@@ -144,7 +144,7 @@ nlohmann::json DistantFiltersReport::toJson() const {
           {"filters", filters}};
 }
 
-DistantFiltersReport evaluateDistantFilters(const SchemeInfo& scheme, const BuildOutcome& full,
+DistantFiltersReport evaluateDistantFilters(const BuildOutcome& full,
                                             std::span<const BuildOutcome> mraa, const QuerySet& set,
                                             const DistantFiltersOptions& options) {
   DistantFiltersReport report;
@@ -256,10 +256,10 @@ void runDistantFilters(const CommandOptions& o) {
       buildMraaLevels(scene, light, mode, scheme, params, resolution, kMraaLevels);
   // The query sets and sizes of the lookup benchmark (cell.cpp).
   const QuerySet set =
-      o.queries == "view" ? viewSamples(scene, source, 1920, 1080, 2) : uniformQueries(1 << 22, 7);
+      o.queries == "view" ? standardViewQueries(scene, source) : standardUniformQueries();
   DistantFiltersOptions options;
   fmt::print("evaluating {} {} queries\n", set.queries.size(), set.name);
-  const DistantFiltersReport report = evaluateDistantFilters(scheme, full, mraa, set, options);
+  const DistantFiltersReport report = evaluateDistantFilters(full, mraa, set, options);
   const bool hasVoaa = full.decoder->voxelOccupancy() != nullptr;
 
   std::string markdown = fmt::format(

@@ -65,10 +65,11 @@ struct DistantFiltersReport {
   nlohmann::json toJson() const;
 };
 
-// Answers `set` with every filter and with the exact PCF each is compared with. VOAA rows need a
-// CPVS-format `full`; `mraa` holds levels 1, 2, … (buildMraaLevels), level 0 being `full`. HPCF
-// rows, at the same levels, come from a `full` whose decoder is a HierarchicalLookup.
-DistantFiltersReport evaluateDistantFilters(const SchemeInfo& scheme, const BuildOutcome& full,
+// Answers `set` with every filter and with the exact PCF each is compared with. VOAA rows come
+// from a `full` whose decoder offers voxelOccupancy(); `mraa` holds levels 1, 2, …
+// (buildMraaLevels), level 0 being `full`. HPCF rows, at the same levels, come from a `full`
+// whose decoder offers hierarchicalLookup().
+DistantFiltersReport evaluateDistantFilters(const BuildOutcome& full,
                                             std::span<const BuildOutcome> mraa, const QuerySet& set,
                                             const DistantFiltersOptions& options = {});
 

@@ -28,7 +28,7 @@ DistantFiltersReport evaluate(const Scene& scene, const std::string& schemeName)
       buildMraaLevels(scene, light, DepthMode::Closed, scheme, params, kResolution, 4);
   DistantFiltersOptions options;
   options.time = false;
-  return evaluateDistantFilters(scheme, full, mraa, viewSamples(scene, source, 96, 64, 2), options);
+  return evaluateDistantFilters(full, mraa, viewSamples(scene, source, 96, 64, 2), options);
 }
 
 }  // namespace

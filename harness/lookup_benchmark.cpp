@@ -57,7 +57,7 @@ void lookups(benchmark::State& state, const SchemeInfo* scheme, int set, int k) 
 int main(int argc, char** argv) {
   for (const SchemeInfo& scheme : schemes())
     for (int set = 0; set < 2; ++set)
-      for (int k : {1, 3, 5, 9, 17})
+      for (int k : kStandardFilters)
         benchmark::RegisterBenchmark(
             (scheme.name + "/" + (set == 0 ? "uniform" : "view") + "/k" + std::to_string(k))
                 .c_str(),

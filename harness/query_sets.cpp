@@ -76,4 +76,12 @@ QuerySet viewSamples(const Scene& scene, const DepthSource& source, uint32_t wid
   return set;
 }
 
+QuerySet standardUniformQueries() {
+  return uniformQueries(1 << 22, 7);
+}
+
+QuerySet standardViewQueries(const Scene& scene, const DepthSource& source) {
+  return viewSamples(scene, source, 1920, 1080, 2);
+}
+
 }  // namespace sb

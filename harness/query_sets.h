@@ -41,4 +41,13 @@ ViewSurface captureView(const Scene& scene, const DepthSource& source, uint32_t 
 QuerySet viewSamples(const Scene& scene, const DepthSource& source, uint32_t width, uint32_t height,
                      uint32_t frames);
 
+// The filter sizes every lookup figure is reported for: the point test, then PCF from 3×3 to
+// 17×17, the range of the papers' tables (DESIGN §4 allows k ≤ 17).
+inline constexpr int kStandardFilters[] = {1, 3, 5, 9, 17};
+
+// The query sets of every recorded lookup timing: 4 Mi uniform queries (seed 7), and the view
+// samples of two 1920×1080 frames.
+QuerySet standardUniformQueries();
+QuerySet standardViewQueries(const Scene& scene, const DepthSource& source);
+
 }  // namespace sb

@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include <nlohmann/json.hpp>
+#include "harness/query_sets.h"
 #include "schemes/interface/splitmix.h"
 
 namespace sb {
@@ -88,8 +89,7 @@ struct Checker {
   template <class Select, class PcfSelect>
   void checkWindow(const ReferenceWindow& window, int64_t cx, int64_t cy, Select select,
                    PcfSelect pcf, uint64_t seed) {
-    static constexpr int kFilters[] = {1, 3, 5, 9, 17};
-    Batch batches[std::size(kFilters)];
+    Batch batches[std::size(kStandardFilters)];
     const int64_t x1 = std::min<int64_t>(cx + kCore, map.resolution);
     const int64_t y1 = std::min<int64_t>(cy + kCore, map.resolution);
     for (int64_t j = cy; j < y1; ++j)
@@ -108,19 +108,20 @@ struct Checker {
                                         : answer == PointAnswer::Shadowed ? VisibilityRange{0, 0}
                                                                           : VisibilityRange{0, 1});
         }
-        for (size_t f = 1; f < std::size(kFilters); ++f) {
-          if (!pcf(h, kFilters[f])) continue;
+        for (size_t f = 1; f < std::size(kStandardFilters); ++f) {
+          if (!pcf(h, kStandardFilters[f])) continue;
           // PCF at the texel's own surface, just behind it, and at a random depth.
-          const float pcfDepths[] = {depths[0], depths[n - 1], unitFloat(mixBits(h ^ kFilters[f]))};
+          const float pcfDepths[] = {depths[0], depths[n - 1],
+                                     unitFloat(mixBits(h ^ kStandardFilters[f]))};
           for (float z : pcfDepths) {
             batches[f].queries.push_back({at.x, at.y, z});
             batches[f].expected.push_back(
-                window.pcf(i, j, kFilters[f], testedDepth(kind, map, z), map.resolution));
+                window.pcf(i, j, kStandardFilters[f], testedDepth(kind, map, z), map.resolution));
           }
         }
       }
-    for (size_t f = 0; f < std::size(kFilters); ++f)
-      if (!batches[f].queries.empty()) run(batches[f], kFilters[f]);
+    for (size_t f = 0; f < std::size(kStandardFilters); ++f)
+      if (!batches[f].queries.empty()) run(batches[f], kStandardFilters[f]);
   }
 };
 

@@ -18,10 +18,10 @@ struct BenchOptions {
 
 void benchStructure(const BenchOptions& o) {
   const LoadedStructure loaded(o.structure, o.map);
-  const QuerySet sets[] = {uniformQueries(1 << 22, 7),
-                           viewSamples(loaded.scene, *loaded.source, 1920, 1080, 2)};
+  const QuerySet sets[] = {standardUniformQueries(),
+                           standardViewQueries(loaded.scene, *loaded.source)};
   for (const QuerySet& set : sets)
-    for (int k : {1, 3, 5, 9, 17}) {
+    for (int k : kStandardFilters) {
       const LookupTiming t = timeLookups(*loaded.decoder, set, k);
       fmt::print("{:8} {:2}×{:<2}: {:8.1f} ns/query (1 thread), {:8.1f} Mqueries/s ({} threads)\n",
                  t.querySet, k, k, t.nsPerQuerySingleThread, t.mqueriesPerSecondAllThreads,
