@@ -11,6 +11,11 @@ import json
 import sys
 from pathlib import Path
 
+try:
+    import jsonschema
+except ImportError:  # said when records are to be read (record_validator), naming the package
+    jsonschema = None
+
 RECORD_FORMAT = "shadowbench-record/1"
 SCHEMA_PATH = Path(__file__).resolve().parent.parent / "harness" / "record.schema.json"
 
@@ -57,11 +62,9 @@ class SchemaUnavailable(RuntimeError):
 def record_validator(schema=None):
     """A jsonschema validator of records; `schema` is the schema itself or the path of its file
     (None: SCHEMA_PATH)."""
-    try:
-        import jsonschema
-    except ImportError as error:
+    if jsonschema is None:
         raise SchemaUnavailable(f"jsonschema is needed by {sys.executable} to check records "
-                                "(Debian's python3-jsonschema serves /usr/bin/python3)") from error
+                                "(Debian's python3-jsonschema serves /usr/bin/python3)")
     if schema is None:
         schema = SCHEMA_PATH
     if not isinstance(schema, dict):
@@ -80,10 +83,10 @@ def record_validator(schema=None):
 
 def schema_problem(validator, record):
     """The first reason `record` breaks the schema, or None."""
-    import jsonschema
     error = jsonschema.exceptions.best_match(validator.iter_errors(record))
-    return None if error is None else f"does not match the record schema at {error.json_path}: " \
-                                      f"{error.message}"
+    if error is None:
+        return None
+    return f"does not match the record schema at {error.json_path}: {error.message}"
 
 
 def read_record(path, validator):
@@ -121,7 +124,8 @@ def read_records(folder, program, schema=None):
 
 def is_newer(record, kept):
     """Whether `record` replaces `kept` (None: nothing yet) as its cell's record: the newest
-    ("created", ISO 8601 UTC) counts, and of equal ones the later read, as in the harness."""
+    ("created", ISO 8601 UTC) counts, and of equal ones the one read later (files are read in
+    path order)."""
     return kept is None or str(kept.get("created", "")) <= str(record.get("created", ""))
 
 
