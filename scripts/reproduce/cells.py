@@ -21,7 +21,7 @@ def params_of(record):
     return tuple(sorted(scheme_params(record).items()))
 
 
-class Records:
+class Cells:
     """The newest record of each cell, found by scheme, scene generator, mode and parameters;
     `defaults` ({scheme: {parameter: default}}, the registry's) picks the cells the papers' rows
     are built with, so that the variants of Fig. 8 and Tables 3 and 4 in one folder stay apart."""

@@ -27,7 +27,7 @@ from scheme_registry import RegistryUnavailable, scheme_defaults  # noqa: E402
 import compare_tables  # noqa: E402
 import cpvs_tables  # noqa: E402
 import mh_tables  # noqa: E402
-from cells import Records, TableError  # noqa: E402
+from cells import Cells, TableError  # noqa: E402
 from table_format import K  # noqa: E402
 
 TABLES = {
@@ -59,7 +59,7 @@ def parse_resolution(text):
 
 
 def render(table, records, args):
-    """The Markdown of `table` (a key of TABLES) from `records` (a cells.Records)."""
+    """The Markdown of `table` (a key of TABLES) from `records` (a cells.Cells)."""
     return "\n".join(TABLES[table](records, args))
 
 
@@ -76,7 +76,7 @@ def main():
     try:
         defaults = scheme_defaults()
         found, _ = read_records(args.records, "paper_tables.py")
-        records = Records(found, defaults, args.records)
+        records = Cells(found, defaults, args.records)
         if not records.all:
             sys.exit(f"paper_tables.py: no complete shadowbench records under '{args.records}'")
         print(render(args.table, records, args), end="")

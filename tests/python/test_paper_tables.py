@@ -19,7 +19,7 @@ from records import read_records
 from scheme_registry import parse_schemes_json
 
 import paper_tables
-from cells import Records, TableError
+from cells import Cells, TableError
 
 GOLDEN = support.HERE / "golden"
 DISPLAYED_RECORDS = "tests/python/fixtures/records"  # as the golden tables name the folder
@@ -34,7 +34,7 @@ def fixture_records(defaults=None):
     assert not skipped, stderr.getvalue()
     if defaults is None:
         defaults = parse_schemes_json(support.SCHEMES_JSON.read_text(encoding="utf-8"))
-    return Records(found, defaults, support.FIXTURE_RECORDS)
+    return Cells(found, defaults, support.FIXTURE_RECORDS)
 
 
 def arguments(table, max_resolution):
@@ -109,13 +109,13 @@ class Refusals(support.TemporaryFolder):
         other = copy.deepcopy(found[0])
         other["scene"]["name"] = "city:size=12,seed=2"
         with self.assertRaisesRegex(TableError, "several scenes of one generator"):
-            Records(found + [other], {}, self.folder)
+            Cells(found + [other], {}, self.folder)
 
     def test_variants_a_table_cannot_tell_apart(self):
         found = self.records_of(
             "city-size-36-seed-1_0_closed_mmh_search-distance-1000_1024.json",
             "city-size-36-seed-1_0_closed_mmh_search-distance-100_1024.json")
-        records = Records(found, {}, self.folder)  # no defaults: both are mmh's cell
+        records = Cells(found, {}, self.folder)  # no defaults: both are mmh's cell
         with self.assertRaisesRegex(TableError, "mmh city closed 1024² has records with "
                                                 "different parameters"):
             records.at_defaults("mmh", "city", "closed")
