@@ -1,6 +1,7 @@
-"""The one number formatter of the Python scripts: the harness's formatSignificant
-(harness/progress.cpp) step for step, so that a table cell reads the same whichever side printed
-it. Both are held to tests/golden/number_format.tsv."""
+"""The one number formatter of the Python scripts: the harness's table numbers
+(harness/table_number.cpp, formatSignificant in harness/progress.cpp) step for step, so that a
+table cell reads the same whichever side printed it. Both are held to
+tests/golden/number_format.tsv."""
 
 import math
 
@@ -35,3 +36,17 @@ def significant(value, digits=3):
     if rounded != 0:
         decimals = min(decimals, decimals_for(rounded))
     return f"{value:.{decimals}f}"
+
+
+def integer(value):
+    """A count shown whole ("22241"); MISSING for None and "?" for a value that is not finite."""
+    if value is None:
+        return MISSING
+    if not math.isfinite(value):
+        return "?"
+    return f"{value:.0f}"
+
+
+# The kinds of tests/golden/number_format.tsv the scripts print; its "count" (an SI prefix, as
+# "12.3M") only the harness prints.
+KINDS = {"significant": significant, "integer": integer}

@@ -2,7 +2,7 @@
 Eisemann 2021 (DAG-MH: Tables 1-4), and the family's lookup cost, ours beside the papers'
 figures. The papers' rows are our cells at the registry's defaults (the papers' settings)."""
 
-from number_format import MISSING
+from number_format import MISSING, integer
 from records import counter, depth_seconds, lookup_ns, phase_seconds, total_seconds
 
 from cells import component_mib, mib, millions, without_depth
@@ -364,7 +364,7 @@ def paired_table(found, shown, values, paper_table, ours_rows, title_of):
             for i, value in enumerate(values):
                 rec = cells.get(value)
                 got = of(rec) if rec else None  # counts as integers, the rest to 3 digits
-                line += [str(got) if isinstance(got, int) else significant(got),
+                line += [integer(got) if isinstance(got, int) else significant(got),
                          paper_cells[i] if paper_cells else MISSING]
             rows.append(line)
         lines += [f"## {title_of(r)}", "", markdown_table(header, rows)]
