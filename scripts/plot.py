@@ -19,8 +19,8 @@ import re
 import sys
 from pathlib import Path
 
-from records import (SchemaUnavailable, is_newer, light_index, read_records, scheme_params,
-                     size_bytes, total_seconds)
+from records import (RecordFiles, SchemaUnavailable, light_index, newest_per_cell, read_records,
+                     scheme_params, size_bytes, total_seconds)
 from scheme_registry import RegistryUnavailable, scheme_defaults
 
 BASELINE = "sm32"
@@ -59,15 +59,24 @@ def selected(record, schemes, params, defaults):
     return all(have[key] == value for key, value in params.items() if key in have)
 
 
-def group_records(records):
-    """{(scene, light, mode): {variant label: {resolution: record}}}, newest record per cell."""
+def cell_of(record):
+    """(scene, light, mode, variant label, resolution): a point of the plots."""
+    return (record["scene"]["name"], light_index(record), record["mode"], variant_label(record),
+            record["resolution"])
+
+
+def describe_cell(cell):
+    scene, light, mode, label, resolution = cell
+    return f"{scene}, light {light}, {mode}, {label}, {resolution_label(resolution)}²"
+
+
+def group_records(files):
+    """{(scene, light, mode): {variant label: {resolution: record}}} of `files`
+    (records.RecordFiles), the newest record per cell; each one left out is named."""
     groups = {}
-    for record in records:
-        key = (record["scene"]["name"], light_index(record), record["mode"])
-        cells = groups.setdefault(key, {}).setdefault(variant_label(record), {})
-        resolution = record["resolution"]
-        if is_newer(record, cells.get(resolution)):
-            cells[resolution] = record
+    newest = newest_per_cell(files, cell_of, describe_cell, "plot.py")
+    for (scene, light, mode, label, resolution), record in newest.items():
+        groups.setdefault((scene, light, mode), {}).setdefault(label, {})[resolution] = record
     return groups
 
 
@@ -164,11 +173,14 @@ def main():
         sys.exit(f"plot.py: '{args.records}' is not a folder of records")
     try:
         defaults = scheme_defaults() if args.defaults else None
-        records, _ = read_records(args.records, "plot.py")
+        files = read_records(args.records, "plot.py")
     except (RegistryUnavailable, SchemaUnavailable) as error:
         sys.exit(f"plot.py: {error}")
-    records = [r for r in records if selected(r, wanted_schemes, wanted_params, defaults)]
-    if not records:
+    kept = [i for i, r in enumerate(files.records)
+            if selected(r, wanted_schemes, wanted_params, defaults)]
+    files = RecordFiles([files.records[i] for i in kept], [files.paths[i] for i in kept],
+                        files.skipped)
+    if not files.records:
         narrowed = args.schemes or args.param or args.defaults
         sys.exit(f"plot.py: no complete shadowbench records (*.json) under '{args.records}'"
                  + (" of the selected schemes and parameters" if narrowed else ""))
@@ -185,7 +197,7 @@ def main():
 
     out_dir = args.out or args.records / "plots"
     out_dir.mkdir(parents=True, exist_ok=True)
-    for key, variants in sorted(group_records(records).items()):
+    for key, variants in sorted(group_records(files).items()):
         for path in plot_group(plt, NullLocator, key, variants, out_dir):
             print(path)
     return 0

@@ -10,6 +10,7 @@ the reason, so that a table never hides a half-written or nonsense record.
 import json
 import sys
 from pathlib import Path
+from typing import NamedTuple
 
 try:
     import jsonschema
@@ -105,28 +106,61 @@ def read_record(path, validator):
     return (None, problem) if problem else (record, None)
 
 
+class RecordFiles(NamedTuple):
+    records: list  # the records that count, in path order
+    paths: list  # the file of each record
+    skipped: list  # (path, why) of each file that does not count
+
+
 def read_records(folder, program, schema=None):
-    """(records, skipped): every record under `folder` (*.json, recursively, sorted by path) that
-    counts, and (path, reason) for each file that does not, each also reported on standard error
-    as "PROGRAM: skipped PATH: REASON". `schema` as for record_validator; raises
-    SchemaUnavailable before reading any file."""
+    """The RecordFiles of `folder` (*.json, recursively, sorted by path); each file that does not
+    count is also reported on standard error as "PROGRAM: skipped PATH: WHY". `schema` as for
+    record_validator; raises SchemaUnavailable before reading any file."""
     validator = record_validator(schema)
-    records, skipped = [], []
+    files = RecordFiles([], [], [])
     for path in sorted(p for p in Path(folder).rglob("*.json") if p.is_file()):
         record, problem = read_record(path, validator)
         if record is None:
-            skipped.append((path, problem))
+            files.skipped.append((path, problem))
             print(f"{program}: skipped {path}: {problem}", file=sys.stderr)
         else:
-            records.append(record)
-    return records, skipped
+            files.records.append(record)
+            files.paths.append(path)
+    return files
+
+
+def _created(record):
+    return str(record.get("created", ""))
 
 
 def is_newer(record, kept):
     """Whether `record` replaces `kept` (None: nothing yet) as its cell's record: the newest
     ("created", ISO 8601 UTC) counts, and of equal ones the one read later (files are read in
-    path order)."""
-    return kept is None or str(kept.get("created", "")) <= str(record.get("created", ""))
+    path order), as the harness's tables choose."""
+    return kept is None or _created(kept) <= _created(record)
+
+
+def newest_per_cell(files, cell_of, describe, program):
+    """{cell: record}: of the records of `files` (RecordFiles) in one cell (`cell_of(record)`)
+    the newest, as is_newer says. Each record left out is named on standard error beside the one
+    used, with the cell (`describe(cell)`), as the harness's `table` names them."""
+    used = {}  # cell → index of its record
+    for index, record in enumerate(files.records):
+        cell = cell_of(record)
+        if cell not in used or is_newer(record, files.records[used[cell]]):
+            used[cell] = index
+    for index, record in enumerate(files.records):
+        cell = cell_of(record)
+        kept = used[cell]
+        if index == kept:
+            continue
+        when = _created(record) or "at an unknown time"
+        when_kept = _created(files.records[kept]) or "at an unknown time"
+        why = (f"both created {when}; the later file is used" if when == when_kept
+               else f"created {when}, the used one {when_kept}")
+        print(f"{program}: '{files.paths[index]}' and '{files.paths[kept]}' are records of one "
+              f"cell ({describe(cell)}): the first is not used ({why})", file=sys.stderr)
+    return {cell: files.records[index] for cell, index in used.items()}
 
 
 # --- fields ---------------------------------------------------------------------------------

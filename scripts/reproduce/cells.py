@@ -2,7 +2,7 @@
 found by scheme, scene generator, mode and parameters; and the quantities the tables derive
 from a record."""
 
-from records import (component_bytes, counter, depth_seconds, is_newer, scheme_params,
+from records import (component_bytes, counter, depth_seconds, newest_per_cell, scheme_params,
                      size_bytes, total_seconds)
 
 from table_format import MIB
@@ -21,13 +21,26 @@ def params_of(record):
     return tuple(sorted(scheme_params(record).items()))
 
 
+def cell_of(record):
+    return (record["scheme"]["name"], params_of(record), generator(record), record["mode"],
+            record["resolution"])
+
+
+def describe_cell(cell):
+    scheme, params, scene, mode, resolution = cell
+    named = f" ({', '.join(f'{k}={v}' for k, v in params)})" if params else ""
+    return f"{scheme}{named}, {scene}, {mode}, {resolution}²"
+
+
 class Cells:
     """The newest record of each cell, found by scheme, scene generator, mode and parameters;
     `defaults` ({scheme: {parameter: default}}, the registry's) picks the cells the papers' rows
-    are built with, so that the variants of Fig. 8 and Tables 3 and 4 in one folder stay apart."""
+    are built with, so that the variants of Fig. 8 and Tables 3 and 4 in one folder stay apart.
+    `files` are records.RecordFiles; a record left out for a newer one of its cell is named on
+    standard error, after `program`."""
 
-    def __init__(self, records, defaults, folder):
-        self.all = records
+    def __init__(self, files, defaults, folder, program):
+        self.all = files.records
         self.defaults = defaults
         names = {}
         for record in self.all:
@@ -39,12 +52,7 @@ class Cells:
         self.scene_names = {g: next(iter(n)) for g, n in names.items()}
         self.triangles = {generator(rec): rec["scene"].get("triangles") for rec in self.all}
         # (scheme, parameters, scene generator, mode, resolution) → the newest record
-        self.newest = {}
-        for record in self.all:
-            key = (record["scheme"]["name"], params_of(record), generator(record),
-                   record["mode"], record["resolution"])
-            if is_newer(record, self.newest.get(key)):
-                self.newest[key] = record
+        self.newest = newest_per_cell(files, cell_of, describe_cell, program)
 
     def find(self, scheme, scene, mode, params=None):
         """{resolution: record}; `params` must be a subset of the record's parameters."""

@@ -75,8 +75,8 @@ def main():
     args = parser.parse_args()
     try:
         defaults = scheme_defaults()
-        found, _ = read_records(args.records, "paper_tables.py")
-        records = Cells(found, defaults, args.records)
+        files = read_records(args.records, "paper_tables.py")
+        records = Cells(files, defaults, args.records, "paper_tables.py")
         if not records.all:
             sys.exit(f"paper_tables.py: no complete shadowbench records under '{args.records}'")
         print(render(args.table, records, args), end="")

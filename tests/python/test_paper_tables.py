@@ -30,11 +30,11 @@ def fixture_records(defaults=None):
     """The fixture's records, validated against the record schema where the checkout has it."""
     schema = None if support.RECORD_SCHEMA.is_file() else {}
     with contextlib.redirect_stderr(io.StringIO()) as stderr:
-        found, skipped = read_records(support.FIXTURE_RECORDS, "test", schema)
-    assert not skipped, stderr.getvalue()
+        files = read_records(support.FIXTURE_RECORDS, "test", schema)
+    assert not files.skipped, stderr.getvalue()
     if defaults is None:
         defaults = parse_schemes_json(support.SCHEMES_JSON.read_text(encoding="utf-8"))
-    return Cells(found, defaults, support.FIXTURE_RECORDS)
+    return Cells(files, defaults, support.FIXTURE_RECORDS, "test")
 
 
 def arguments(table, max_resolution):
@@ -101,21 +101,23 @@ class Refusals(support.TemporaryFolder):
                 edit(record)
             self.write(name, json.dumps(record))
         with contextlib.redirect_stderr(io.StringIO()):
-            found, _ = read_records(self.folder, "test", {})
-        return found
+            return read_records(self.folder, "test", {})
 
     def test_two_scenes_of_one_generator(self):
-        found = self.records_of("city-size-36-seed-1_0_closed_mh_1024.json")
-        other = copy.deepcopy(found[0])
-        other["scene"]["name"] = "city:size=12,seed=2"
+        name = "city-size-36-seed-1_0_closed_mh_1024.json"
+        files = self.records_of(name, edit=lambda record: record["scene"].update(
+            name="city:size=12,seed=2"))
+        self.write("other.json", json.dumps(support.fixture_record(name)))
+        with contextlib.redirect_stderr(io.StringIO()):
+            files = read_records(self.folder, "test", {})
         with self.assertRaisesRegex(TableError, "several scenes of one generator"):
-            Cells(found + [other], {}, self.folder)
+            Cells(files, {}, self.folder, "test")
 
     def test_variants_a_table_cannot_tell_apart(self):
-        found = self.records_of(
+        files = self.records_of(
             "city-size-36-seed-1_0_closed_mmh_search-distance-1000_1024.json",
             "city-size-36-seed-1_0_closed_mmh_search-distance-100_1024.json")
-        records = Cells(found, {}, self.folder)  # no defaults: both are mmh's cell
+        records = Cells(files, {}, self.folder, "test")  # no defaults: both are mmh's cell
         with self.assertRaisesRegex(TableError, "mmh city closed 1024² has records with "
                                                 "different parameters"):
             records.at_defaults("mmh", "city", "closed")
@@ -164,3 +166,23 @@ class CommandLine(support.TemporaryFolder):
         done = self.run_script("compare-size", str(self.folder / "empty"))
         self.assertEqual(done.returncode, 1)
         self.assertIn("no complete shadowbench records", done.stderr)
+
+
+class Duplicates(support.TemporaryFolder):
+
+    def test_an_older_record_of_a_cell_is_named(self):
+        name = "city-size-36-seed-1_0_closed_mh_1024.json"
+        newer = support.fixture_record(name)
+        older = dict(newer, created="2000-01-01T00:00:00Z")
+        self.write(name, json.dumps(newer))
+        path = self.write("older/copy.json", json.dumps(older))
+        with contextlib.redirect_stderr(io.StringIO()):
+            files = read_records(self.folder, "test", {})
+        stderr = io.StringIO()
+        with contextlib.redirect_stderr(stderr):
+            records = Cells(files, {}, self.folder, "test")
+        self.assertEqual(records.find("mh", "city", "closed")[1024]["created"], newer["created"])
+        self.assertEqual(stderr.getvalue(),
+                         f"test: '{path}' and '{self.folder / name}' are records of one cell (mh, "
+                         "city, closed, 1024²): the first is not used (created "
+                         f"2000-01-01T00:00:00Z, the used one {newer['created']})\n")

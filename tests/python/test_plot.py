@@ -1,9 +1,12 @@
 """scripts/plot.py: which records it plots (--schemes, --param, --defaults), and a run."""
 
+import contextlib
+import io
 import subprocess
 import sys
 
 import support
+from records import RecordFiles
 from scheme_registry import parse_schemes_json
 
 import plot
@@ -34,13 +37,17 @@ class Selection(support.TemporaryFolder):
         self.assertFalse(plot.selected(self.variant, None, {"treelet-height": "4"}, None))
         self.assertTrue(plot.selected(self.sm32, None, {"treelet-height": "4"}, None))
 
-    def test_the_newest_record_of_a_cell_is_plotted(self):
+    def test_the_newest_record_of_a_cell_is_plotted_and_the_other_named(self):
         older = dict(self.sm32, created="2000-01-01T00:00:00Z")
-        groups = plot.group_records([self.sm32, older])
-        (cells,) = groups.values()
-        self.assertIs(cells["sm32"][1024], self.sm32)
-        groups = plot.group_records([older, self.sm32])
-        self.assertIs(next(iter(groups.values()))["sm32"][1024], self.sm32)
+        for records in ([self.sm32, older], [older, self.sm32]):
+            paths = [f"{record['created']}.json" for record in records]
+            stderr = io.StringIO()
+            with contextlib.redirect_stderr(stderr):
+                groups = plot.group_records(RecordFiles(records, paths, []))
+            self.assertEqual(list(groups), [("city:size=36,seed=1", 0, "closed")])
+            self.assertIs(groups[("city:size=36,seed=1", 0, "closed")]["sm32"][1024], self.sm32)
+            self.assertIn("plot.py: '2000-01-01T00:00:00Z.json' and", stderr.getvalue())
+            self.assertIn("(city:size=36,seed=1, light 0, closed, sm32, 1K²)", stderr.getvalue())
 
 
 class Run(support.TemporaryFolder):

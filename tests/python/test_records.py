@@ -5,8 +5,8 @@ import io
 import json
 
 import support
-from records import (SchemaUnavailable, component_bytes, is_complete_record, is_newer,
-                     lookup_ns, read_records)
+from records import (RecordFiles, SchemaUnavailable, component_bytes, is_complete_record,
+                     is_newer, lookup_ns, newest_per_cell, read_records)
 
 # A schema of the test's own, so that the validation path is tested whether or not the checkout
 # has harness/record.schema.json: sizes must be integers of at least 0.
@@ -21,8 +21,9 @@ class ReadRecords(support.TemporaryFolder):
         """(records, skipped, stderr) of reading self.folder."""
         stderr = io.StringIO()
         with contextlib.redirect_stderr(stderr):
-            records, skipped = read_records(self.folder, "test", schema)
-        return records, skipped, stderr.getvalue()
+            files = read_records(self.folder, "test", schema)
+        self.assertEqual(len(files.paths), len(files.records))
+        return files.records, files.skipped, stderr.getvalue()
 
     def good(self):
         return support.fixture_record()
@@ -93,9 +94,9 @@ class RealSchema(support.TemporaryFolder):
     def test_every_fixture_record_is_valid(self):
         stderr = io.StringIO()
         with contextlib.redirect_stderr(stderr):
-            records, skipped = read_records(support.FIXTURE_RECORDS, "test")
-        self.assertEqual((skipped, stderr.getvalue()), ([], ""))
-        self.assertEqual(len(records), len(list(support.FIXTURE_RECORDS.glob("*.json"))))
+            files = read_records(support.FIXTURE_RECORDS, "test")
+        self.assertEqual((files.skipped, stderr.getvalue()), ([], ""))
+        self.assertEqual(files.paths, sorted(support.FIXTURE_RECORDS.glob("*.json")))
 
     def test_nonsense_values_are_refused(self):
         for field, value in ((("size_bytes", "total"), -1), (("resolution",), 1000),
@@ -110,8 +111,8 @@ class RealSchema(support.TemporaryFolder):
                 self.write("r.json", json.dumps(record))
                 stderr = io.StringIO()
                 with contextlib.redirect_stderr(stderr):
-                    records, _ = read_records(self.folder, "test")
-                self.assertEqual(records, [])
+                    files = read_records(self.folder, "test")
+                self.assertEqual(files.records, [])
                 self.assertIn("does not match the record schema", stderr.getvalue())
 
 
@@ -150,3 +151,38 @@ class Fields(support.TemporaryFolder):
         timing = next(t for t in record["lookup"] if t["query_set"] == "view" and t["filter"] == 9)
         self.assertEqual(lookup_ns(record, "view", 9), timing["ns_per_query_1t"])
         self.assertIsNone(lookup_ns(record, "view", 2))
+
+
+class Duplicates(support.TemporaryFolder):
+    """Of several records of one cell the newest is used and each other one is named."""
+
+    def newest(self, *created):
+        records = [{"cell": "c", "created": when, "file": i} for i, when in enumerate(created)]
+        paths = [f"{i}.json" for i in range(len(records))]
+        stderr = io.StringIO()
+        with contextlib.redirect_stderr(stderr):
+            newest = newest_per_cell(RecordFiles(records, paths, []), lambda r: r["cell"],
+                                     lambda cell: f"cell {cell}", "test")
+        return newest["c"], stderr.getvalue().splitlines()
+
+    def test_an_older_record_is_named_beside_the_one_used(self):
+        used, said = self.newest("2026-02-01T00:00:00Z", "2026-01-01T00:00:00Z")
+        self.assertEqual(used["created"], "2026-02-01T00:00:00Z")
+        self.assertEqual(said, ["test: '1.json' and '0.json' are records of one cell (cell c): "
+                                "the first is not used (created 2026-01-01T00:00:00Z, the used "
+                                "one 2026-02-01T00:00:00Z)"])
+
+    def test_of_equal_times_the_later_file(self):
+        used, said = self.newest("2026-01-01T00:00:00Z", "2026-01-01T00:00:00Z", "")
+        self.assertEqual(used["file"], 1)
+        self.assertEqual(len(said), 2)
+        self.assertIn("test: '0.json' and '1.json' are records of one cell (cell c): the first "
+                      "is not used (both created 2026-01-01T00:00:00Z; the later file is used)",
+                      said)
+        self.assertIn("test: '2.json' and '1.json' are records of one cell (cell c): the first "
+                      "is not used (created at an unknown time, the used one "
+                      "2026-01-01T00:00:00Z)", said)
+
+    def test_one_record_per_cell_says_nothing(self):
+        used, said = self.newest("2026-01-01T00:00:00Z")
+        self.assertEqual(said, [])
