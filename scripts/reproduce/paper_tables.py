@@ -8,11 +8,11 @@ and the tables that set every lossless scheme side by side.
 TABLE is one of sintorn2014-fig9, kampe2015-table1 … kampe2015-table4, cpvs-lookup (CPVS),
 scandolo2016-table1 … table3, scandolo2016-fig8, scandolo2021-table1 … table4, mh-lookup (MH
 family), compare-size, compare-lookup (every scheme, no paper); the Markdown goes to standard
-output. Records are read as scripts/records.py reads them (records that do not count are named
-on standard error; of a cell's records the newest counts), the schemes' default parameters come
-from `shadowbench schemes --json` (scripts/scheme_registry.py). Columns are our resolutions and
-the paper's up to --max-resolution. The papers' figures are in paper_figures.py; the renderers
-are cpvs_tables.py, mh_tables.py and compare_tables.py.
+output. Records are read as scripts/records.py reads them (files that do not count are named on
+standard error; of a cell's records the newest counts, the others named), the schemes' default
+parameters come from `shadowbench schemes --json` (scripts/scheme_registry.py). Columns are our
+resolutions and the paper's up to --max-resolution. The papers' figures are in
+paper_figures.py; the renderers are cpvs_tables.py, mh_tables.py and compare_tables.py.
 """
 
 import argparse
