@@ -8,6 +8,7 @@ the reason, so that a table never hides a half-written or nonsense record.
 """
 
 import json
+import os
 import sys
 from pathlib import Path
 from typing import NamedTuple
@@ -18,6 +19,9 @@ except ImportError:  # said when records are to be read (record_validator), nami
     jsonschema = None
 
 RECORD_FORMAT = "shadowbench-record/1"
+# Where a sweep moves the records of older versions of a cell (harness/record.h,
+# kSupersededFolder): kept, never read as records.
+SUPERSEDED_FOLDER = "superseded"
 SCHEMA_PATH = Path(__file__).resolve().parent.parent / "harness" / "record.schema.json"
 
 
@@ -106,6 +110,16 @@ def read_record(path, validator):
     return (None, problem) if problem else (record, None)
 
 
+def record_paths(folder):
+    """Every *.json file under `folder`, recursively and sorted, outside superseded folders (as
+    the harness's readRecords: directory links are not followed)."""
+    paths = []
+    for root, folders, files in os.walk(folder):
+        folders[:] = [name for name in folders if name != SUPERSEDED_FOLDER]
+        paths += [Path(root) / name for name in files if name.endswith(".json")]
+    return sorted(path for path in paths if path.is_file())
+
+
 class RecordFiles(NamedTuple):
     records: list  # the records that count, in path order
     paths: list  # the file of each record
@@ -113,12 +127,12 @@ class RecordFiles(NamedTuple):
 
 
 def read_records(folder, program, schema=None):
-    """The RecordFiles of `folder` (*.json, recursively, sorted by path); each file that does not
-    count is also reported on standard error as "PROGRAM: skipped PATH: WHY". `schema` as for
+    """The RecordFiles of `folder` (the files of record_paths); each file that does not count is
+    also reported on standard error as "PROGRAM: skipped PATH: WHY". `schema` as for
     record_validator; raises SchemaUnavailable before reading any file."""
     validator = record_validator(schema)
     files = RecordFiles([], [], [])
-    for path in sorted(p for p in Path(folder).rglob("*.json") if p.is_file()):
+    for path in record_paths(folder):
         record, problem = read_record(path, validator)
         if record is None:
             files.skipped.append((path, problem))

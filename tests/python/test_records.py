@@ -76,6 +76,16 @@ class ReadRecords(support.TemporaryFolder):
         self.assertEqual([p.name for p, _ in skipped], ["2.json", "3.json"])
         self.assertEqual(len(said.splitlines()), 2)
 
+    def test_superseded_records_are_not_read(self):
+        """A sweep moves the records of an older version of a cell into superseded/ (at any depth,
+        as the harness's readRecords skips it)."""
+        self.write("a/good.json", json.dumps(self.good()))
+        self.write("superseded/old.json", json.dumps(self.good()))
+        self.write("a/superseded/older.json", "")
+        self.write("a/superseded.json", json.dumps(self.good()))  # a file, not the folder
+        records, skipped, said = self.read()
+        self.assertEqual((len(records), skipped, said), (2, [], ""))
+
     def test_a_missing_schema_stops_before_any_file_is_read(self):
         self.write("1.json", json.dumps(self.good()))
         missing = self.folder / "no-such.schema.json"
