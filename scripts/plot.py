@@ -2,13 +2,15 @@
 """Plots shadowbench build records: size and build time against resolution.
 
     python3 scripts/plot.py RECORDS_DIR [--out DIR] [--schemes a,b] [--param NAME=VALUE ...]
+        [--defaults]
 
-Reads every complete record (*.json, recursively) under RECORDS_DIR — the same validity rule
-as the harness: "format" is "shadowbench-record/1", "complete" is true, and the fields the
-tables need are there — and writes, for each (scene, light index, mode), two log-log PNGs:
-size in bytes and build time in seconds against resolution, one line per scheme with its
-parameters, with the analytic 16- and 32-bit shadow maps dashed on the size plot. Of several
-records of one cell the newest ("created") counts, as in the tables.
+Reads the records under RECORDS_DIR as scripts/records.py reads them (*.json, recursively; each
+file that is not a complete, valid record is named on standard error) and writes, for each
+(scene, light index, mode), two log-log PNGs: size in bytes and build time in seconds against
+resolution, one line per scheme with its parameters, with the analytic 16- and 32-bit shadow
+maps dashed on the size plot. Of several records of one cell the newest ("created") counts, as
+in the tables. --defaults keeps only the records built with their scheme's registry defaults
+(`shadowbench schemes --json`, see scripts/scheme_registry.py).
 """
 
 import argparse
@@ -17,62 +19,21 @@ import re
 import sys
 from pathlib import Path
 
-RECORD_FORMAT = "shadowbench-record/1"
+from records import (RecordFiles, SchemaUnavailable, light_index, newest_per_cell, read_records,
+                     scheme_params, size_bytes, total_seconds)
+from scheme_registry import RegistryUnavailable, scheme_defaults
+
 BASELINE = "sm32"
-
-
-def is_complete_record(record):
-    """The harness's isCompleteRecord, field for field."""
-
-    def is_int(value):
-        return isinstance(value, int) and not isinstance(value, bool)
-
-    def is_number(value):
-        return isinstance(value, (int, float)) and not isinstance(value, bool)
-
-    if not isinstance(record, dict):
-        return False
-    scene, scheme, size = record.get("scene"), record.get("scheme"), record.get("size_bytes")
-    return (
-        record.get("format") == RECORD_FORMAT
-        and record.get("complete") is True
-        and isinstance(scene, dict) and isinstance(scene.get("name"), str)
-        and isinstance(scheme, dict) and isinstance(scheme.get("name"), str)
-        and isinstance(record.get("mode"), str)
-        and is_int(record.get("resolution")) and record["resolution"] > 0
-        and isinstance(size, dict) and is_number(size.get("total"))
-    )
-
-
-def read_records(folder):
-    """(records, skipped paths): every complete record under `folder`, sorted by path."""
-    records, skipped = [], []
-    for path in sorted(p for p in Path(folder).rglob("*.json") if p.is_file()):
-        try:
-            record = json.loads(path.read_bytes())
-        except (OSError, ValueError):
-            record = None
-        if is_complete_record(record):
-            records.append(record)
-        else:
-            skipped.append(path)
-    return records, skipped
-
-
-def light_index(record):
-    value = record.get("light_index", 0)
-    return value if isinstance(value, int) and value >= 0 else 0
 
 
 def variant_label(record):
     """'mmh (height=3, search=1000)', as the tables name a scheme with its parameters."""
-    scheme = record["scheme"]
-    params = scheme.get("params") or {}
-    if not isinstance(params, dict) or not params:
-        return scheme["name"]
-    text = ", ".join(f"{name}={value if isinstance(value, str) else json.dumps(value)}"
-                     for name, value in sorted(params.items()))
-    return f"{scheme['name']} ({text})"
+    name, params = record["scheme"]["name"], scheme_params(record)
+    if not params:
+        return name
+    text = ", ".join(f"{key}={value if isinstance(value, str) else json.dumps(value)}"
+                     for key, value in sorted(params.items()))
+    return f"{name} ({text})"
 
 
 def natural_key(text):
@@ -85,28 +46,37 @@ def variant_order(label):
     return (name != BASELINE, name, natural_key(label))
 
 
-def selected(record, schemes, params):
-    """Whether --schemes and --param keep `record`: its scheme is listed (or none are), and each
-    given parameter it has holds the given value."""
-    scheme = record["scheme"]
-    if schemes is not None and scheme["name"] not in schemes:
+def selected(record, schemes, params, defaults):
+    """Whether --schemes, --param and --defaults keep `record`: its scheme is listed (or none
+    are), each given parameter it has holds the given value, and with `defaults` ({scheme:
+    {parameter: default}}, None: any parameters) its parameters are its scheme's defaults."""
+    name = record["scheme"]["name"]
+    if schemes is not None and name not in schemes:
         return False
-    have = scheme.get("params") or {}
-    if not isinstance(have, dict):
-        return True
-    return all(str(have[name]) == value for name, value in params.items() if name in have)
+    have = {key: str(value) for key, value in scheme_params(record).items()}
+    if defaults is not None and have != defaults.get(name):
+        return False
+    return all(have[key] == value for key, value in params.items() if key in have)
 
 
-def group_records(records):
-    """{(scene, light, mode): {variant label: {resolution: record}}}, newest record per cell."""
+def cell_of(record):
+    """(scene, light, mode, variant label, resolution): a point of the plots."""
+    return (record["scene"]["name"], light_index(record), record["mode"], variant_label(record),
+            record["resolution"])
+
+
+def describe_cell(cell):
+    scene, light, mode, label, resolution = cell
+    return f"{scene}, light {light}, {mode}, {label}, {resolution_label(resolution)}²"
+
+
+def group_records(files):
+    """{(scene, light, mode): {variant label: {resolution: record}}} of `files`
+    (records.RecordFiles), the newest record per cell; each one left out is named."""
     groups = {}
-    for record in records:
-        key = (record["scene"]["name"], light_index(record), record["mode"])
-        cells = groups.setdefault(key, {}).setdefault(variant_label(record), {})
-        resolution = record["resolution"]
-        kept = cells.get(resolution)
-        if kept is None or str(kept.get("created", "")) <= str(record.get("created", "")):
-            cells[resolution] = record
+    newest = newest_per_cell(files, cell_of, describe_cell, "plot.py")
+    for (scene, light, mode, label, resolution), record in newest.items():
+        groups.setdefault((scene, light, mode), {}).setdefault(label, {})[resolution] = record
     return groups
 
 
@@ -121,8 +91,7 @@ def file_name_part(text):
 
 
 def build_seconds(record):
-    time = record.get("time_s")
-    value = time.get("total") if isinstance(time, dict) else None
+    value = total_seconds(record)
     return value if isinstance(value, (int, float)) and value > 0 else None
 
 
@@ -161,7 +130,7 @@ def plot_group(plt, NullLocator, key, variants, out_dir):
     for label in ordered:
         cells = variants[label]
         xs = sorted(cells)
-        axes.plot(xs, [cells[r]["size_bytes"]["total"] for r in xs], marker="o", label=label)
+        axes.plot(xs, [size_bytes(cells[r]) for r in xs], marker="o", label=label)
     for bytes_per_texel in (2, 4):
         axes.plot(resolutions, [r * r * bytes_per_texel for r in resolutions], linestyle="--",
                   color="grey" if bytes_per_texel == 2 else "black", linewidth=1,
@@ -189,6 +158,8 @@ def main():
     parser.add_argument("--param", "-p", action="append", default=[], metavar="NAME=VALUE",
                         help="keep a record only if its scheme, where it has parameter NAME, "
                              "has VALUE (repeatable; as 'shadowbench sweep --param' selects)")
+    parser.add_argument("--defaults", action="store_true",
+                        help="keep only records built with their scheme's registry defaults")
     args = parser.parse_args()
     wanted_params = {}
     for text in args.param:
@@ -200,13 +171,19 @@ def main():
 
     if not args.records.is_dir():
         sys.exit(f"plot.py: '{args.records}' is not a folder of records")
-    records, skipped = read_records(args.records)
-    if skipped:
-        print(f"plot.py: skipped {len(skipped)} file(s) that are not complete records", file=sys.stderr)
-    records = [r for r in records if selected(r, wanted_schemes, wanted_params)]
-    if not records:
+    try:
+        defaults = scheme_defaults() if args.defaults else None
+        files = read_records(args.records, "plot.py")
+    except (RegistryUnavailable, SchemaUnavailable) as error:
+        sys.exit(f"plot.py: {error}")
+    kept = [i for i, r in enumerate(files.records)
+            if selected(r, wanted_schemes, wanted_params, defaults)]
+    files = RecordFiles([files.records[i] for i in kept], [files.paths[i] for i in kept],
+                        files.skipped)
+    if not files.records:
+        narrowed = args.schemes or args.param or args.defaults
         sys.exit(f"plot.py: no complete shadowbench records (*.json) under '{args.records}'"
-                 + (" of the selected schemes and parameters" if args.schemes or args.param else ""))
+                 + (" of the selected schemes and parameters" if narrowed else ""))
 
     # Imported here so that a missing matplotlib reports itself after the cheap checks.
     try:
@@ -220,7 +197,7 @@ def main():
 
     out_dir = args.out or args.records / "plots"
     out_dir.mkdir(parents=True, exist_ok=True)
-    for key, variants in sorted(group_records(records).items()):
+    for key, variants in sorted(group_records(files).items()):
         for path in plot_group(plt, NullLocator, key, variants, out_dir):
             print(path)
     return 0

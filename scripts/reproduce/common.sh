@@ -63,14 +63,9 @@ capped() {
   resolutions "${@:2}"
 }
 
-# The registry defaults of each family's parameters, for the sweeps of those schemes (sweep
-# refuses a parameter that none of its schemes has): given explicitly, a cell stays the one the
-# other tables build (a record's file name carries its parameters) if a default changes.
-mh_family_defaults=(--param search-distance=1000 --param treelet-height=4 --param chunk-size=32
-  --param skip-level=6)
-voxel_dag_defaults=(--param grid-levels=0 --param leaf-layout=slab8 --param culling=on
-  --param transitions=aligned)
-sm_zstd_defaults=(--param block=64 --param level=3)
+# A sweep builds every parameter a script does not name at the registry's default, and the
+# tables find the papers' rows at those defaults (`shadowbench schemes --json`), so the scripts
+# name only the parameters they vary.
 
 out=results/reproduce
 # One records folder for every table: a cell two tables need is built once.

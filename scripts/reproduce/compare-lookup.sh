@@ -13,11 +13,11 @@ source "$(dirname "$0")/common.sh"
 scenes=city:full,terrain:full
 # compare-size.sh says why these caps (memory: no cell above about 16 GiB).
 up_to_16k=$(capped 16K 4K 4)
-sweep --schemes cpvs,cpvs-fast "${voxel_dag_defaults[@]}" --scenes "$scenes" --modes closed \
+sweep --schemes cpvs,cpvs-fast --scenes "$scenes" --modes closed \
   --resolutions "$(resolutions 4K 4)"
-sweep --schemes mh,mmh,dag-mh "${mh_family_defaults[@]}" --scenes "$scenes" --modes closed \
+sweep --schemes mh,mmh,dag-mh --scenes "$scenes" --modes closed \
   --resolutions "$(resolutions 4K 4)"
-sweep --schemes sm-zstd "${sm_zstd_defaults[@]}" --scenes "$scenes" --modes closed \
+sweep --schemes sm-zstd --scenes "$scenes" --modes closed \
   --resolutions "$(resolutions 4K 4)"
 sweep --schemes compressed-sm --scenes "$scenes" --modes closed --resolutions "$(resolutions 4K 4)"
 sweep --schemes sm32 --scenes "$scenes" --modes closed --resolutions "$up_to_16k"

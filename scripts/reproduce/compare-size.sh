@@ -23,13 +23,13 @@ scenes=city:full,terrain:full
 #   18 GiB at 32K² and 60 GiB at 64K²; its encoder stops past 3/4 of the machine's memory.
 up_to_16k=$(capped 16K 4K)
 up_to_8k=$(capped 8K 4K)
-sweep --schemes cpvs,cpvs-fast "${voxel_dag_defaults[@]}" --scenes "$scenes" --modes closed,open \
+sweep --schemes cpvs,cpvs-fast --scenes "$scenes" --modes closed,open \
   --resolutions "$(resolutions 4K)"
-sweep --schemes mh,mmh,dag-mh "${mh_family_defaults[@]}" --scenes "$scenes" --modes closed \
+sweep --schemes mh,mmh,dag-mh --scenes "$scenes" --modes closed \
   --resolutions "$(resolutions 4K)"
-sweep --schemes mh,mmh,dag-mh "${mh_family_defaults[@]}" --scenes "$scenes" --modes open \
+sweep --schemes mh,mmh,dag-mh --scenes "$scenes" --modes open \
   --resolutions "$up_to_8k"
-sweep --schemes sm-zstd "${sm_zstd_defaults[@]}" --scenes "$scenes" --modes closed,open \
+sweep --schemes sm-zstd --scenes "$scenes" --modes closed,open \
   --resolutions "$(resolutions 4K)"
 sweep --schemes compressed-sm --scenes "$scenes" --modes closed,open --resolutions "$(resolutions 4K)"
 sweep --schemes sm32 --scenes "$scenes" --modes closed,open --resolutions "$up_to_16k"
@@ -37,6 +37,5 @@ sweep --schemes openvdb --scenes "$scenes" --modes closed,open --resolutions "$u
 # The same cells plotted, size and build time against resolution (one PNG pair per scene and
 # mode the records hold), into results/reproduce/compare-size/plots.
 /usr/bin/python3 scripts/plot.py "$records" --out "$out/$table/plots" \
-  --schemes sm32,compressed-sm,sm-zstd,openvdb,cpvs,cpvs-fast,mh,mmh,dag-mh \
-  "${mh_family_defaults[@]}" "${voxel_dag_defaults[@]}" "${sm_zstd_defaults[@]}" >/dev/null
+  --schemes sm32,compressed-sm,sm-zstd,openvdb,cpvs,cpvs-fast,mh,mmh,dag-mh --defaults >/dev/null
 tabulate

@@ -7,7 +7,5 @@
 #   scripts/reproduce/mh-lookup.sh [--max-resolution 64K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
-sweep --schemes mh,mmh,dag-mh --param search-distance=1000 --param treelet-height=4 \
-  --param chunk-size=32 --param skip-level=6 --scenes city:full --modes closed \
-  --resolutions "$(resolutions 4K 4)"
+sweep --schemes mh,mmh,dag-mh --scenes city:full --modes closed --resolutions "$(resolutions 4K 4)"
 tabulate

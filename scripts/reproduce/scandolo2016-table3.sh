@@ -6,6 +6,6 @@
 #   scripts/reproduce/scandolo2016-table3.sh [--max-resolution 64K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
-sweep --schemes mmh --param search-distance=1000 --scenes city:full --modes closed \
+sweep --schemes mmh --scenes city:full --modes closed \
   --resolutions "$(resolutions 16K 4)"
 tabulate

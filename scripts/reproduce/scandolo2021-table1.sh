@@ -10,17 +10,15 @@
 source "$(dirname "$0")/common.sh"
 up_to_16k=$(capped 16K 4K 4)
 up_to_8k=$(capped 8K 4K)
-defaults=(--param search-distance=1000 --param treelet-height=4 --param chunk-size=32
-  --param skip-level=6)
-sweep --schemes mmh,dag-mh,cpvs "${defaults[@]}" --scenes city:full --modes closed \
+sweep --schemes mmh,dag-mh,cpvs --scenes city:full --modes closed \
   --resolutions "$(resolutions 4K)"
-sweep --schemes mmh,dag-mh,cpvs "${defaults[@]}" --scenes terrain:full --modes closed \
+sweep --schemes mmh,dag-mh,cpvs --scenes terrain:full --modes closed \
   --resolutions "$(resolutions 4K 4)"
-sweep --schemes mmh,dag-mh "${defaults[@]}" --scenes tangle:full --modes closed \
+sweep --schemes mmh,dag-mh --scenes tangle:full --modes closed \
   --resolutions "$(resolutions 4K 4)"
-sweep --schemes mmh,dag-mh,cpvs "${defaults[@]}" --scenes city:full --modes open \
+sweep --schemes mmh,dag-mh,cpvs --scenes city:full --modes open \
   --resolutions "$up_to_8k"
-sweep --schemes mmh,dag-mh,cpvs "${defaults[@]}" --scenes forest:full --modes static \
+sweep --schemes mmh,dag-mh,cpvs --scenes forest:full --modes static \
   --resolutions "$(resolutions 4K 4)"
 sweep --schemes cpvs --scenes tangle:full --modes closed --resolutions "$up_to_16k"
 tabulate

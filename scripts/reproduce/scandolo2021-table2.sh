@@ -5,7 +5,5 @@
 #   scripts/reproduce/scandolo2021-table2.sh [--max-resolution 64K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
-sweep --schemes cpvs,mh,mmh,dag-mh --param search-distance=1000 --param treelet-height=4 \
-  --param chunk-size=32 --param skip-level=6 --scenes city:full --modes closed \
-  --resolutions "$(resolutions 4K 4)"
+sweep --schemes cpvs,mh,mmh,dag-mh --scenes city:full --modes closed --resolutions "$(resolutions 4K 4)"
 tabulate

@@ -9,8 +9,7 @@ source "$(dirname "$0")/common.sh"
 for height in 4 2 3 5; do
   bench=()
   [ $height = 4 ] || bench=(--no-bench) # height 4 is Table 1's cell
-  sweep --schemes dag-mh --param treelet-height=$height --param chunk-size=32 \
-    --param skip-level=6 --scenes city:full --modes closed --resolutions "$(resolutions 16K 4)" \
-    "${bench[@]}"
+  sweep --schemes dag-mh --param treelet-height=$height --scenes city:full --modes closed \
+    --resolutions "$(resolutions 16K 4)" "${bench[@]}"
 done
 tabulate

@@ -9,8 +9,7 @@ source "$(dirname "$0")/common.sh"
 for chunk in 32 16 64 128; do
   bench=()
   [ $chunk = 32 ] || bench=(--no-bench) # 32 is Table 1's cell
-  sweep --schemes dag-mh --param treelet-height=4 --param chunk-size=$chunk \
-    --param skip-level=6 --scenes city:full --modes closed --resolutions "$(resolutions 16K 4)" \
-    "${bench[@]}"
+  sweep --schemes dag-mh --param chunk-size=$chunk --scenes city:full --modes closed \
+    --resolutions "$(resolutions 16K 4)" "${bench[@]}"
 done
 tabulate

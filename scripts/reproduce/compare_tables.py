@@ -1,0 +1,172 @@
+"""Every lossless scheme side by side, no paper (issue 5: compressed-sm, openvdb, sm-zstd beside
+the CPVS and MH schemes): size and lookup cost, each scheme at its registry defaults."""
+
+from number_format import MISSING
+from records import lookup_ns, size_bytes
+
+from cells import mib
+from table_format import (K, MIB, cap_note, heading, markdown_table,
+                          preamble, row, significant)
+
+# (scheme, what it is) in the tables' order: the float map, the map codecs, the voxel schemes,
+# the MH family. Each at its registry defaults (as compare-size.sh builds them); a scheme
+# without records keeps its row, with "–".
+COMPARE_SCHEMES = [
+    ("sm32", "float32 shadow map"),
+    ("compressed-sm", "Arvo & Hirvikorpi 2005, piecewise-linear scanlines"),
+    ("sm-zstd", "float32 map in 64×64 blocks, zstd level 3"),
+    ("openvdb", "voxel shadow volume in an OpenVDB tree"),
+    ("cpvs", "Sintorn 2014, voxel DAG"),
+    ("cpvs-fast", "Kämpe 2015, voxel DAG, culling on"),
+    ("mh", "Scandolo 2016a, multiresolution hierarchy"),
+    ("mmh", "Scandolo 2016b, merged MH, search distance 1000"),
+    ("dag-mh", "Scandolo & Eisemann 2021, treelets of 4, chunks of 32"),
+]
+COMPARE_BUILDS = [("city", "closed"), ("city", "open"), ("terrain", "closed"),
+                  ("terrain", "open")]
+COMPARE_RESOLUTIONS = [4 * K << i for i in range(5)]  # 4K² … 64K²
+COMPARE_LOOKUP_RESOLUTIONS = [4 * K, 16 * K, 64 * K]
+COMPARE_FILTERS = (1, 9)
+# compare-size.sh builds these (scheme, scene, mode) only up to a resolution, for memory.
+COMPARE_CAPPED = {
+    **{(scheme, s, m): 16 * K for scheme in ("sm32", "openvdb") for s, m in COMPARE_BUILDS},
+    **{(scheme, s, "open"): 8 * K for scheme in ("mh", "mmh", "dag-mh")
+       for s in ("city", "terrain")},
+}
+COMPARE_CAP_NOTE = (
+    "Caps, for memory (2 cores, 24 GiB, shared: no cell may peak above about 16 GiB; those "
+    "cells print –), estimated from the records below the cap: `sm32` up to 16K², as it holds "
+    "4·R² bytes (16 GiB at 64K²), which is the analytic row. `mh`, `mmh`, "
+    "`dag-mh` open up to 8K²: the ground is a point interval of changing depth, so the hierarchy "
+    "keeps about a node per texel (mh 70 MiB at 4K², ×4 per doubling) and `mmh` peaks at "
+    "5.3 GiB at 8K² on city (1.6 GiB at 4K² on terrain, as on city), over 20 GiB at 16K². "
+    "`openvdb` up to 16K²: 3.7 GiB at 16K² on city closed and 4.5 GiB open, ×4.1 per doubling "
+    "(no subtree is shared, and every lower node touched holds a dense 33 KiB table), so about "
+    "15 and 18 GiB at 32K² and 60 GiB at 64K²; its encoder stops past 3/4 of the machine's "
+    "memory.")
+
+
+def compare_columns(records, builds, wanted, args):
+    """`wanted` up to --max-resolution (the maximum alone if all are above it), and every other
+    resolution the schemes hold on the builds from the smallest of those up (cpvs's 1K² and 2K²
+    cells of the CPVS tables add no columns, a quick run's do)."""
+    shown = {r for r in wanted if r <= args.max_resolution} or {args.max_resolution}
+    held = {r for scheme, _ in COMPARE_SCHEMES for scene, mode in builds
+            for r in records.at_defaults(scheme, scene, mode)}
+    return sorted(shown | {r for r in held if r >= min(shown)})
+
+
+def compare_note(scheme, scene, mode, cells, columns):
+    """What a row's empty cells mean: a cap of compare-size.sh, or no records at all."""
+    if not cells:
+        return "; no records"
+    return cap_note(scheme, scene, mode, cells, columns, COMPARE_CAPPED).replace(", ", "; ", 1)
+
+
+def compare_size(records, args):
+    columns = compare_columns(records, COMPARE_BUILDS, COMPARE_RESOLUTIONS, args)
+    lines = preamble(
+        "Size of every lossless scheme — city and terrain, closed and open", args, records,
+        [(None, "city"), (None, "terrain")],
+        "MiB = 2^20 bytes (the record's size_bytes.total: every byte a lookup needs), 3 "
+        "significant digits; % of float32 = the size over the uncompressed 32-bit map of the "
+        "same resolution (4·R² bytes), at the row's largest cell. Every scheme at its registry "
+        "defaults.")
+    lines += ["Modes (DESIGN §3): closed = watertight casters, so each texel's interval "
+              "[lo, hi] reaches to where its ray leaves the casters and a scheme may answer "
+              "either way inside; open = no assumption, the interval is a point (hi = lo) "
+              "wherever a ray hits. Lossless = every record verified against the reference "
+              "(Verification above counts any mismatch).", "",
+              COMPARE_CAP_NOTE + " – = not built.", ""]
+    header = ["scheme"] + [heading(r) for r in columns] + ["% of float32 (largest cell)"]
+    for scene, mode in COMPARE_BUILDS:
+        rows = []
+        for scheme, label in COMPARE_SCHEMES:
+            cells = records.at_defaults(scheme, scene, mode)
+            values = {r: mib(rec) for r, rec in cells.items()}
+            largest = max((r for r in cells if r in columns), default=None)
+            share = (f"{significant(100 * size_bytes(cells[largest]) / (4.0 * largest ** 2))} % "
+                     f"at {heading(largest)}" if largest else MISSING)
+            note = compare_note(scheme, scene, mode, cells, columns)
+            rows.append(row(f"{scheme} ({label}{note})", values, columns) + [share])
+        rows.append(row("uncompressed float32, 4·R² bytes (analytic)",
+                        {r: 4.0 * r * r / MIB for r in columns}, columns) + ["100 %"])
+        lines += [f"## {scene} {mode}", "", markdown_table(header, rows)]
+    lines += ["`sm32` is the float32 map itself (its size is the analytic row); `sm-zstd` "
+              "stores the same `lo` values, so it is the same in both modes. `compressed-sm` and "
+              "the MH family fit the interval [lo, hi]: in closed mode they exploit the undefined "
+              "space, open they must reproduce every depth. `openvdb`, `cpvs` and `cpvs-fast` "
+              "store the shadow volume as voxels (R³), with undefined space resolved as in "
+              "Sintorn 2014 (cpvs, openvdb) or Kämpe 2015 (cpvs-fast).", ""]
+    return lines
+
+
+def compare_lookup(records, args):
+    sets = ("uniform", "view")
+    primary = [("city", "closed"), ("terrain", "closed")]
+    resolutions = sorted({r for r in COMPARE_LOOKUP_RESOLUTIONS if r <= args.max_resolution}
+                         or {args.max_resolution})
+    timing_header = [f"{k}×{k} {s}" for k in COMPARE_FILTERS for s in sets]
+
+    def timings(rec):
+        return [significant(lookup_ns(rec, s, k)) for k in COMPARE_FILTERS for s in sets]
+
+    lines = preamble(
+        "Lookup cost of every lossless scheme — point and 9×9 PCF, random and view queries",
+        args, records, [(None, "city"), (None, "terrain")],
+        "ns per query on one thread (the record's ns_per_query_1t, median of 5 runs), 3 "
+        "significant digits; size in MiB = 2^20 bytes. 1×1 = a point lookup, 9×9 = exact PCF "
+        "over 9×9 texels at the finest level (81 visibility tests, answered as a fraction). "
+        "uniform = the issue's random queries (the harness's query set \"uniform\": points "
+        "uniform in the light's unit cube, up to 4 M, as many as take about 0.1 s); view = the "
+        "surface points two 1920×1080 views of the scene see, in light space (coherent: "
+        "neighbouring queries hit neighbouring texels). Every scheme at its registry defaults; "
+        "depth schemes are queried at the query depth, voxel schemes at the voxel centre.")
+    lines += ["City closed is the primary scene, terrain closed the second, at 4K², 16K² and "
+              "64K² (up to --max-resolution); every other cell with timings follows at the end. "
+              + COMPARE_CAP_NOTE + " – = not built, or built without timings (--no-bench, "
+              "said in the row).", ""]
+    header = ["scheme", "size (MiB)"] + timing_header
+    shown = set()
+    for scene, mode in primary:
+        for r in resolutions:
+            rows = []
+            for scheme, label in COMPARE_SCHEMES:
+                cells = records.at_defaults(scheme, scene, mode)
+                rec = cells.get(r)
+                note = compare_note(scheme, scene, mode, cells, [r])
+                if rec is None:
+                    rows.append([f"{scheme} ({label}{note})"] + [MISSING] * (len(header) - 1))
+                    continue
+                shown.add((scheme, scene, mode, r))
+                if not rec.get("lookup"):
+                    note += "; built without timings"
+                rows.append([f"{scheme} ({label}{note})", significant(mib(rec))]
+                            + timings(rec))
+            lines += [f"## {scene} {mode}, {heading(r)}", "", markdown_table(header, rows)]
+    lines += ["## Every other cell with timings", "",
+              "The other scenes, modes and resolutions the records hold, for completeness "
+              "(open mode and the resolutions between from compare-size.sh; other scenes, such "
+              "as forest and tangle, from the MH and CPVS tables).", ""]
+    others = 0
+    for scene in sorted(records.scene_names):
+        for mode in sorted({key[3] for key in records.newest if key[2] == scene}):
+            rows = []
+            cells = {scheme: records.at_defaults(scheme, scene, mode)
+                     for scheme, _ in COMPARE_SCHEMES}
+            for r in sorted({key[4] for key in records.newest if key[2:4] == (scene, mode)}):
+                for scheme, _ in COMPARE_SCHEMES:
+                    rec = cells[scheme].get(r)
+                    if rec and rec.get("lookup") and (scheme, scene, mode, r) not in shown:
+                        rows.append([heading(r), scheme, significant(mib(rec))] + timings(rec))
+            if rows:
+                others += len(rows)
+                lines += [f"### {scene} {mode}", "",
+                          markdown_table(["resolution", "scheme", "size (MiB)"] + timing_header,
+                                         rows, label_columns=2)]
+    if not others:
+        lines += ["None.", ""]
+    lines += ["Timings are of one CPU thread with the scheme's own cache (sm-zstd decompresses "
+              "a 64×64 block on a miss of its per-thread four-block cache); the machine is "
+              "shared, so compare schemes within one table, and ratios rather than digits.", ""]
+    return lines
