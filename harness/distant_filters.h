@@ -17,10 +17,6 @@
 #include "scenes/scene.h"
 #include "schemes/interface/scheme.h"
 
-namespace CLI {
-class App;
-}
-
 namespace sb {
 
 // How far approximate answers are from the exact ones, query by query.
@@ -72,9 +68,5 @@ struct DistantFiltersReport {
 DistantFiltersReport evaluateDistantFilters(const BuildOutcome& full,
                                             std::span<const BuildOutcome> mraa, const QuerySet& set,
                                             const DistantFiltersOptions& options = {});
-
-// `shadowbench distant-filters`: builds the structure and its MRAA levels, evaluates the filters
-// on view or uniform queries, prints the Markdown table and writes it with a JSON file to --out.
-void addDistantFiltersCommand(CLI::App& app);
 
 }  // namespace sb

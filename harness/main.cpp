@@ -5,7 +5,6 @@
 
 #include "harness/cli/commands.h"
 #include "harness/cli/options.h"
-#include "harness/distant_filters.h"
 #include "harness/many_lights.h"
 
 int main(int argc, char** argv) {
@@ -21,7 +20,7 @@ int main(int argc, char** argv) {
   sb::cli::addSweepCommand(app);
   sb::cli::addTableCommand(app);
   sb::addManyLightsCommand(app);
-  sb::addDistantFiltersCommand(app);
+  sb::cli::addDistantFiltersCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -15,5 +15,6 @@ void addQueryCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addSweepCommand(CLI::App& app);
 void addTableCommand(CLI::App& app);
+void addDistantFiltersCommand(CLI::App& app);
 
 }  // namespace sb::cli
