@@ -583,17 +583,6 @@ TEST_CASE("watertightness counts open edges by kind", "[scenes][watertight]") {
   CHECK(sb::enclosedVolume(inverted) == Approx(-1.0));
 }
 
-TEST_CASE("the watertightness report has a line per mesh", "[scenes][watertight]") {
-  Scene scene;
-  scene.meshes = {cubeWithVerticesPerFace(), cubeWithVerticesPerFace()};
-  scene.meshes[0].closed = true;
-  scene.meshes[1].name = "open_box";
-  scene.meshes[1].triangles.resize(10);
-  CHECK(sb::watertightnessReport(scene) ==
-        "mesh cube: closed, 12 triangles, watertight\n"
-        "mesh open_box: open, 10 triangles, not watertight: 4 open edges (4 on holes)\n");
-}
-
 TEST_CASE("a model file opens closed with ':closed', checked to be watertight",
           "[scenes][watertight][spec]") {
   TempDir dir;

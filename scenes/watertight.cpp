@@ -117,13 +117,4 @@ void checkClosedMesh(const Mesh& mesh, std::string_view where) {
 
 }  // namespace detail
 
-std::string watertightnessReport(const Scene& scene) {
-  std::string report;
-  for (const Mesh& mesh : scene.meshes)
-    report +=
-        fmt::format("mesh {}: {}, {} triangles, {}\n", mesh.name, mesh.closed ? "closed" : "open",
-                    mesh.triangles.size(), checkWatertight(mesh).describe());
-  return report;
-}
-
 }  // namespace sb

@@ -34,7 +34,4 @@ Watertightness checkWatertight(const Mesh& mesh);
 // is wound counter-clockwise seen from outside, negative when it is inside out.
 double enclosedVolume(const Mesh& mesh);
 
-// One line per mesh: "mesh <name>: <closed|open>, <n> triangles, <describe()>".
-std::string watertightnessReport(const Scene& scene);
-
 }  // namespace sb
