@@ -3,6 +3,7 @@
 // the lights that may reach it.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <span>
