@@ -16,27 +16,31 @@ namespace {
 // Per vertex, the id of its position: vertices at bitwise-equal positions (after -0 → +0)
 // share an id. Sorting keeps the memory at a few words per vertex, which a hash map would not.
 std::vector<uint32_t> positionIds(const Mesh& mesh) {
-  using Key = std::array<uint32_t, 3>;
-  std::vector<Key> keys(mesh.vertices.size());
-  for (size_t v = 0; v < keys.size(); ++v) {
+  struct Keyed {
+    std::array<uint32_t, 3> position;
+    uint32_t vertex;
+  };
+  std::vector<Keyed> keyed(mesh.vertices.size());
+  for (size_t v = 0; v < keyed.size(); ++v) {
     const glm::vec3 p = mesh.vertices[v] + 0.0f;
-    keys[v] = {std::bit_cast<uint32_t>(p.x), std::bit_cast<uint32_t>(p.y),
-               std::bit_cast<uint32_t>(p.z)};
+    keyed[v] = {
+        {std::bit_cast<uint32_t>(p.x), std::bit_cast<uint32_t>(p.y), std::bit_cast<uint32_t>(p.z)},
+        static_cast<uint32_t>(v)};
   }
-  std::vector<uint32_t> order(keys.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
-  std::vector<uint32_t> id(keys.size());
+  std::sort(keyed.begin(), keyed.end(),
+            [](const Keyed& a, const Keyed& b) { return a.position < b.position; });
+  std::vector<uint32_t> id(keyed.size());
   uint32_t next = 0;
-  for (size_t i = 0; i < order.size(); ++i) {
-    if (i > 0 && keys[order[i]] != keys[order[i - 1]]) ++next;
-    id[order[i]] = next;
+  for (size_t i = 0; i < keyed.size(); ++i) {
+    if (i > 0 && keyed[i].position != keyed[i - 1].position) ++next;
+    id[keyed[i].vertex] = next;
   }
   return id;
 }
 
-constexpr uint64_t directed(uint32_t from, uint32_t to) {
-  return uint64_t{from} << 32 | to;
+// An edge between positions a < b: a in the high half, b in the low half.
+constexpr uint64_t edgeKey(uint32_t a, uint32_t b) {
+  return uint64_t{a} << 32 | b;
 }
 
 }  // namespace
@@ -44,29 +48,38 @@ constexpr uint64_t directed(uint32_t from, uint32_t to) {
 Watertightness checkWatertight(const Mesh& mesh) {
   const std::vector<uint32_t> id = positionIds(mesh);
   Watertightness result;
-  std::vector<uint64_t> edges;
-  edges.reserve(mesh.triangles.size() * 3);
+  // Each directed edge by its undirected key, in one list per direction: a watertight surface
+  // has every key once in each list. Both sorted, one merge pass counts the edges.
+  std::vector<uint64_t> upward, downward;  // run from the lower to the higher id, and back
+  upward.reserve(mesh.triangles.size() * 3 / 2 + 1);
+  downward.reserve(mesh.triangles.size() * 3 / 2 + 1);
   for (const glm::uvec3& t : mesh.triangles) {
-    const uint32_t a = id[t.x], b = id[t.y], c = id[t.z];
-    if (a == b || b == c || c == a) {
+    const uint32_t corner[3] = {id[t.x], id[t.y], id[t.z]};
+    if (corner[0] == corner[1] || corner[1] == corner[2] || corner[2] == corner[0]) {
       ++result.degenerateTriangles;
       continue;
     }
-    edges.insert(edges.end(), {directed(a, b), directed(b, c), directed(c, a)});
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t from = corner[k], to = corner[(k + 1) % 3];
+      if (from < to)
+        upward.push_back(edgeKey(from, to));
+      else
+        downward.push_back(edgeKey(to, from));
+    }
   }
-  std::sort(edges.begin(), edges.end());
-  auto countOf = [&](uint64_t edge) {
-    const auto [lo, hi] = std::equal_range(edges.begin(), edges.end(), edge);
-    return static_cast<uint64_t>(hi - lo);
-  };
-  for (auto run = edges.begin(); run != edges.end();) {
-    const auto end = std::upper_bound(run, edges.end(), *run);
-    const uint64_t forward = static_cast<uint64_t>(end - run);
-    const auto from = static_cast<uint32_t>(*run >> 32), to = static_cast<uint32_t>(*run);
-    const uint64_t backward = countOf(directed(to, from));
-    run = end;
-    // Each undirected edge once: from its lower-to-higher direction, or its only direction.
-    if (from > to && backward > 0) continue;
+  std::sort(upward.begin(), upward.end());
+  std::sort(downward.begin(), downward.end());
+  auto up = upward.begin(), down = downward.begin();
+  while (up != upward.end() || down != downward.end()) {
+    const uint64_t key =
+        down == downward.end() || (up != upward.end() && *up < *down) ? *up : *down;
+    auto past = [key](uint64_t other) { return other != key; };
+    const auto upEnd = std::find_if(up, upward.end(), past);
+    const auto downEnd = std::find_if(down, downward.end(), past);
+    const auto forward = static_cast<uint64_t>(upEnd - up);
+    const auto backward = static_cast<uint64_t>(downEnd - down);
+    up = upEnd;
+    down = downEnd;
     ++result.edges;
     if (forward == 1 && backward == 1) continue;
     if (forward + backward == 1)
