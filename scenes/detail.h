@@ -15,6 +15,8 @@ Scene generateTerrain(uint32_t size, uint64_t seed);
 Scene generateForest(uint32_t size, uint64_t seed);
 Scene generateTangle(uint32_t size, uint64_t seed);
 
+// GeneratorInfo::footprint of each generator; like the generator, each throws a SceneError
+// for a size outside the generator's range.
 SceneFootprint cityFootprint(uint32_t size);
 SceneFootprint terrainFootprint(uint32_t size);
 SceneFootprint forestFootprint(uint32_t size);
