@@ -55,9 +55,10 @@ Light Light::fit(const LightSpec& spec, const Scene& scene) {
     return light;
   }
 
-  if (!(spec.fovDegrees > 0.0f && spec.fovDegrees < 179.0f))
+  if (!isValidSpotFov(spec.fovDegrees))
     throw std::invalid_argument(
-        fmt::format("spot light fov {} must be in (0, 179) degrees", spec.fovDegrees));
+        fmt::format("spot light fov {} degrees is outside the accepted range (0, {})",
+                    spec.fovDegrees, kMaxSpotFovDegrees));
   light.origin_ = glm::dvec3(spec.position);
   light.tanHalfFov_ = std::tan(glm::radians(double(spec.fovDegrees)) / 2);
   double nearest = inf, farthest = 0;

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include <CLI/CLI.hpp>
+
 #include "harness/build.h"
 #include "harness/cell.h"
 #include "harness/many_lights.h"
@@ -197,4 +199,40 @@ TEST_CASE("distribution and histogram of a few values", "[lights]") {
   const Histogram h = histogramOf(values, 2);
   CHECK(h.counts == std::vector<uint32_t>{2, 2});
   CHECK(histogramOf(std::vector<double>{5, 5}, 3).counts == std::vector<uint32_t>{2});
+}
+
+TEST_CASE("views and histograms too large for the memory are refused before any build",
+          "[lights][memory]") {
+  constexpr uint64_t kGiB = 1ull << 30;
+  ManyLightsCommandOptions options;
+  CHECK_NOTHROW(checkManyLightsFits(options, kGiB));  // the defaults: 1920×1080, 12 bins
+  // 29 bytes per pixel (position, normal, coverage, visibility) of 10⁶ × 1080 pixels.
+  options.view.width = 1'000'000;
+  CHECK(viewEvaluationBytes(options.view) >= 29ull * 1'000'000 * 1080);
+  CHECK_THROWS_WITH(checkManyLightsFits(options, 16 * kGiB),
+                    Catch::Contains("a 1000000×1080 view needs at least 29.") &&
+                        Catch::Contains("GiB but only 16.00 GiB is available"));
+  options.noView = true;
+  CHECK_NOTHROW(checkManyLightsFits(options, 16 * kGiB));
+
+  options.bins = 4'000'000'000u;
+  CHECK(summaryBytes(options.bins) > 8ull * options.bins);
+  CHECK_THROWS_WITH(checkManyLightsFits(options, 16 * kGiB),
+                    Catch::Contains("--bins 4000000000 needs at least"));
+  CHECK_NOTHROW(checkManyLightsFits(options, 0));  // memory unknown: nothing refused
+}
+
+TEST_CASE("the many-lights command refuses a histogram too large before placing any light",
+          "[lights][memory]") {
+  ScratchDir out;
+  CLI::App app;
+  addManyLightsCommand(app);
+  const std::vector<std::string> args = {
+      "many-lights", "--scene",    kScene,  "--lights",         "1", "--resolution", "64",
+      "--bins",      "4000000000", "--out", out.path().string()};
+  std::vector<const char*> argv = {"shadowbench"};
+  for (const std::string& arg : args) argv.push_back(arg.c_str());
+  CHECK_THROWS_WITH(app.parse(static_cast<int>(argv.size()), argv.data()),
+                    Catch::Contains("--bins 4000000000 needs at least"));
+  CHECK(fs::is_empty(out.path()));  // nothing built
 }

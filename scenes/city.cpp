@@ -18,12 +18,16 @@
 namespace sb::detail {
 namespace {
 
+constexpr uint32_t kMinSize = 1, kMaxSize = 200;
 constexpr int kBlockLand = 84;  // metres of building land per block side (divisible by 2, 3, 4)
 constexpr int kStreet = 12;
 constexpr int kPitch = kBlockLand + kStreet;
 constexpr int kSlabThickness = 2;  // the slab spans z ∈ [-2, 0]
 constexpr int kFoundation = 1;     // buildings start at z = -1, inside the slab
 constexpr int kMinWidth = 6;       // no tier narrower than this
+constexpr int kMaxLotsPerSide = 4;
+constexpr int kMaxTiers = 3;         // set-back tiers above the base
+constexpr int kRooftopQuarters = 4;  // at most one rooftop unit per quarter of the roof
 
 struct Footprint {
   int x0, y0, x1, y1;
@@ -57,10 +61,10 @@ int heightLimit(int bx, int by, int blocksPerSide) {
 // strictly inside it, so that no two boxes of a building share a corner.
 void addRooftopUnits(Mesh& mesh, Footprint roof, int top, Rng& rng) {
   const int midX = (roof.x0 + roof.x1) / 2, midY = (roof.y0 + roof.y1) / 2;
-  const Footprint quarters[4] = {{roof.x0, roof.y0, midX, midY},
-                                 {midX, roof.y0, roof.x1, midY},
-                                 {roof.x0, midY, midX, roof.y1},
-                                 {midX, midY, roof.x1, roof.y1}};
+  const Footprint quarters[kRooftopQuarters] = {{roof.x0, roof.y0, midX, midY},
+                                                {midX, roof.y0, roof.x1, midY},
+                                                {roof.x0, midY, midX, roof.y1},
+                                                {midX, midY, roof.x1, roof.y1}};
   for (const Footprint& quarter : quarters) {
     if (quarter.width() < 3 || !rng.percent(55)) continue;
     const Footprint unit = inset(quarter, 1, std::max(1, quarter.width() / 2 - 1), rng);
@@ -74,7 +78,8 @@ void addBuilding(Mesh& mesh, Footprint lot, int maxHeight, Rng& rng) {
   const int64_t u = rng.between(0, 1000);
   const int height = 6 + static_cast<int>((maxHeight - 6) * u * u * u / 1'000'000'000);
 
-  const int tiers = height >= 20 && rng.percent(70) ? static_cast<int>(rng.between(1, 3)) : 0;
+  const int tiers =
+      height >= 20 && rng.percent(70) ? static_cast<int>(rng.between(1, kMaxTiers)) : 0;
   Footprint f = inset(lot, 1, 4, rng);
   int bottom = -kFoundation;
   int top = tiers == 0 ? height : height * static_cast<int>(rng.between(40, 70)) / 100;
@@ -103,7 +108,7 @@ void addBuilding(Mesh& mesh, Footprint lot, int maxHeight, Rng& rng) {
 Mesh buildBlock(int bx, int by, int blocksPerSide, uint64_t seed) {
   Rng rng(streamSeed(seed, static_cast<uint64_t>(by) * blocksPerSide + bx));
   const int roll = static_cast<int>(rng.between(0, 99));
-  const int lotsPerSide = roll < 15 ? 2 : roll < 50 ? 3 : 4;
+  const int lotsPerSide = roll < 15 ? 2 : roll < 50 ? 3 : kMaxLotsPerSide;
   const int lot = kBlockLand / lotsPerSide;
   const int half = blocksPerSide * kPitch / 2;
   const int x0 = bx * kPitch + kStreet / 2 - half, y0 = by * kPitch + kStreet / 2 - half;
@@ -123,8 +128,19 @@ Mesh buildBlock(int bx, int by, int blocksPerSide, uint64_t seed) {
 
 }  // namespace
 
+SceneFootprint cityFootprint(uint32_t size) {
+  checkSize("city", size, kMinSize, kMaxSize);
+  // Every lot built on, every building with a base, all tiers and four rooftop units (a spire
+  // replaces the units): boxes of 8 vertices and 12 triangles; one ground slab.
+  constexpr uint64_t kBoxesPerBlock =
+      kMaxLotsPerSide * kMaxLotsPerSide * (1 + kMaxTiers + kRooftopQuarters);
+  const uint64_t boxes = uint64_t{size} * size * kBoxesPerBlock + 1;
+  return {boxes * 8, boxes * 12,
+          grownMeshBytes(boxes * 8, boxes * 12) + (uint64_t{size} * size + 1) * sizeof(Mesh) * 2};
+}
+
 Scene generateCity(uint32_t size, uint64_t seed) {
-  checkSize("city", size, 1, 200);
+  checkSize("city", size, kMinSize, kMaxSize);
   const int n = static_cast<int>(size);
   Scene scene;
   scene.name = generatedSceneName("city", size, seed);

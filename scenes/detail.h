@@ -15,14 +15,34 @@ Scene generateTerrain(uint32_t size, uint64_t seed);
 Scene generateForest(uint32_t size, uint64_t seed);
 Scene generateTangle(uint32_t size, uint64_t seed);
 
+// GeneratorInfo::footprint of each generator; like the generator, each throws a SceneError
+// for a size outside the generator's range.
+SceneFootprint cityFootprint(uint32_t size);
+SceneFootprint terrainFootprint(uint32_t size);
+SceneFootprint forestFootprint(uint32_t size);
+SceneFootprint tangleFootprint(uint32_t size);
+
+// The bytes of `vertices` and `triangles` in meshes grown by push_back, whose capacity may be
+// twice their size.
+constexpr uint64_t grownMeshBytes(uint64_t vertices, uint64_t triangles) {
+  return 2 * (vertices * sizeof(glm::vec3) + triangles * sizeof(glm::uvec3));
+}
+
 // Throws a SceneError naming the generator when `size` lies outside [min, max].
 void checkSize(std::string_view generator, uint32_t size, uint32_t min, uint32_t max);
 
 // "city:size=6,seed=1": the name of a generated scene, which openScene reads back.
 std::string generatedSceneName(std::string_view generator, uint32_t size, uint64_t seed);
 
-// A model file read by Assimp: one open mesh per model mesh, the default light.
-Scene loadModelScene(const std::filesystem::path& path);
+// A model file read by Assimp: one mesh per model mesh, the default light. Closed meshes must
+// be watertight and wound outward; a model whose header declares more than the file can hold,
+// or more than `memoryLimitBytes`, is refused before Assimp allocates.
+Scene loadModelScene(const std::filesystem::path& path, bool closed, uint64_t memoryLimitBytes);
+
+// A mesh declared closed must keep the promise of Mesh::closed: watertight and wound outward
+// (positive enclosed volume). Throws a SceneError "<where>: mesh '<name>' is declared closed
+// but …" naming the number of open edges.
+void checkClosedMesh(const Mesh& mesh, std::string_view where);
 
 // Mesh names are [A-Za-z0-9_-]+ so that they can appear in file names and records unquoted.
 bool isValidMeshName(std::string_view name);

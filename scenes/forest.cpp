@@ -14,9 +14,11 @@
 namespace sb::detail {
 namespace {
 
+constexpr uint32_t kMinSize = 1, kMaxSize = 200;
 constexpr float kSpacing = 8.0f;  // metres between neighbouring trees (before jitter)
 constexpr int kTrunkSides = 6, kTrunkRings = 5;
-constexpr int kBranchSides = 4, kBranchesPerTree = 3;
+constexpr int kBranchSides = 4, kBranchesPerTree = 3, kBranchRings = 3;
+constexpr int kMaxLeavesPerTree = 220;
 
 // An upward open tube whose axis leans away from `base` along `lean`, more at the top.
 void addTrunk(Mesh& mesh, glm::vec3 base, float height, float radius, glm::vec2 lean) {
@@ -57,13 +59,13 @@ void addTree(Mesh& mesh, glm::vec2 position, Rng& rng) {
     const glm::vec3 reach =
         crownRadii *
         glm::vec3{rng.uniform(-0.8f, 0.8f), rng.uniform(-0.8f, 0.8f), rng.uniform(0.1f, 0.5f)};
-    const glm::vec3 centres[3] = {start, start + 0.5f * reach + glm::vec3{0, 0, 0.3f},
-                                  start + reach};
+    const glm::vec3 centres[kBranchRings] = {start, start + 0.5f * reach + glm::vec3{0, 0, 0.3f},
+                                             start + reach};
     const float r = 0.4f * radius;
-    const float radii[3] = {r, 0.7f * r, 0.4f * r};
+    const float radii[kBranchRings] = {r, 0.7f * r, 0.4f * r};
     addTube(mesh, centres, radii, kBranchSides, /*capped=*/false);
   }
-  const int leaves = static_cast<int>(rng.between(180, 220));
+  const int leaves = static_cast<int>(rng.between(180, kMaxLeavesPerTree));
   for (int l = 0; l < leaves; ++l) {
     // Separate statements: the order of evaluation of function arguments is unspecified, and
     // the draws must come in the same order with every compiler.
@@ -75,8 +77,24 @@ void addTree(Mesh& mesh, glm::vec2 position, Rng& rng) {
 
 }  // namespace
 
+SceneFootprint forestFootprint(uint32_t size) {
+  checkSize("forest", size, kMinSize, kMaxSize);
+  // Per tree: an open trunk and branches (rings of sides vertices, two triangles per side
+  // between successive rings) and leaf cards of 4 vertices and 2 triangles; one ground quad.
+  constexpr uint64_t kTreeVertices = kTrunkRings * kTrunkSides +
+                                     kBranchesPerTree * kBranchRings * kBranchSides +
+                                     kMaxLeavesPerTree * 4;
+  constexpr uint64_t kTreeTriangles = (kTrunkRings - 1) * kTrunkSides * 2 +
+                                      kBranchesPerTree * (kBranchRings - 1) * kBranchSides * 2 +
+                                      kMaxLeavesPerTree * 2;
+  const uint64_t trees = uint64_t{size} * size;
+  return {trees * kTreeVertices + 4, trees * kTreeTriangles + 2,
+          grownMeshBytes(trees * kTreeVertices + 4, trees * kTreeTriangles + 2) +
+              (size + 1) * sizeof(Mesh) * 2};
+}
+
 Scene generateForest(uint32_t size, uint64_t seed) {
-  checkSize("forest", size, 1, 200);
+  checkSize("forest", size, kMinSize, kMaxSize);
   const int n = static_cast<int>(size);
   const float half = 0.5f * kSpacing * n;
   Scene scene;

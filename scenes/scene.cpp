@@ -18,6 +18,7 @@
 #include <xxhash.h>
 
 #include "scenes/detail.h"
+#include "scenes/memory.h"
 
 namespace sb {
 
@@ -126,14 +127,14 @@ const std::vector<GeneratorInfo>& sceneGenerators() {
       {"city",
        "closed city: box buildings with setbacks and spires on a ground slab; size = blocks per "
        "side",
-       6, 36, detail::generateCity},
+       6, 36, detail::generateCity, detail::cityFootprint},
       {"terrain", "closed fractal landscape solid; size = grid cells per side", 128, 1024,
-       detail::generateTerrain},
+       detail::generateTerrain, detail::terrainFootprint},
       {"forest",
        "open trees: tube trunks and branches, leaf cards, ground quad; size = trees per side", 8,
-       45, detail::generateForest},
+       45, detail::generateForest, detail::forestFootprint},
       {"tangle", "dense knot of closed tubes in a ball (hairball stand-in); size = number of tubes",
-       12, 650, detail::generateTangle},
+       12, 650, detail::generateTangle, detail::tangleFootprint},
   };
   return generators;
 }
@@ -162,6 +163,12 @@ void validateScene(const Scene& scene, std::string_view origin) {
     throw SceneError(fmt::format("scene '{}': {}", origin, problem));
   };
   if (scene.lights.empty()) fail("no lights");
+  for (size_t l = 0; l < scene.lights.size(); ++l) {
+    const LightSpec& light = scene.lights[l];
+    if (light.kind == LightKind::Spot && !isValidSpotFov(light.fovDegrees))
+      fail(fmt::format("light {}: spot fov {} degrees outside the accepted range (0, {})", l,
+                       light.fovDegrees, kMaxSpotFovDegrees));
+  }
   std::unordered_set<std::string_view> names;
   for (const Mesh& mesh : scene.meshes) {
     if (!isValidMeshName(mesh.name))
@@ -202,7 +209,8 @@ std::optional<uint64_t> parseUnsigned(std::string_view text) {
 }
 
 // "full" | "size=N" | "seed=N", comma-separated, each at most once.
-Scene openGenerator(const GeneratorInfo& generator, std::string_view spec, std::string_view knobs) {
+Scene openGenerator(const GeneratorInfo& generator, std::string_view spec, std::string_view knobs,
+                    uint64_t memoryLimitBytes) {
   auto fail = [&](const std::string& problem) {
     throw SceneError(fmt::format(
         "scene '{}': {} (knobs of '{}': size=N, seed=N, full; e.g. '{}:size={},seed=7')", spec,
@@ -232,13 +240,20 @@ Scene openGenerator(const GeneratorInfo& generator, std::string_view spec, std::
   }
   if (size && *size > std::numeric_limits<uint32_t>::max())
     fail(fmt::format("size {} is too large", *size));
-  Scene scene;
-  try {
-    scene = generator.generate(size ? static_cast<uint32_t>(*size) : generator.defaultSize,
-                               seed.value_or(1));
-  } catch (const SceneError& e) {
-    throw SceneError(fmt::format("scene '{}': {}", spec, e.what()));
-  }
+  const uint32_t chosenSize = size ? static_cast<uint32_t>(*size) : generator.defaultSize;
+  // The generator's own errors name the generator; the spec is put before them.
+  auto namingSpec = [&](auto&& call) {
+    try {
+      return call();
+    } catch (const SceneError& e) {
+      throw SceneError(fmt::format("scene '{}': {}", spec, e.what()));
+    }
+  };
+  const SceneFootprint footprint = namingSpec([&] { return generator.footprint(chosenSize); });
+  detail::checkFitsInMemory(fmt::format("scene '{}'", spec),
+                            fmt::format("generating up to {} triangles", footprint.triangles),
+                            footprint.bytes, memoryLimitBytes, "choose a smaller size");
+  Scene scene = namingSpec([&] { return generator.generate(chosenSize, seed.value_or(1)); });
   detail::validateScene(scene, spec);
   return scene;
 }
@@ -250,9 +265,30 @@ bool hasJsonExtension(const std::filesystem::path& path) {
   return ext == ".json";
 }
 
+// A model file's specification: the path, and whether its meshes are closed (a last
+// ":closed" or ":open"; anything else after a ':' belongs to the path).
+struct ModelSpec {
+  std::string_view path;
+  bool closed = false;
+  bool closednessGiven = false;
+};
+
+ModelSpec modelSpec(std::string_view spec) {
+  const size_t colon = spec.rfind(':');
+  if (colon == std::string_view::npos) return {spec};
+  const std::string_view word = spec.substr(colon + 1);
+  if (word != "closed" && word != "open") return {spec};
+  return {spec.substr(0, colon), word == "closed", true};
+}
+
 }  // namespace
 
 Scene openScene(std::string_view spec) {
+  const uint64_t available = detail::availableMemoryBytes();
+  return openScene(spec, available > 0 ? available : std::numeric_limits<uint64_t>::max());
+}
+
+Scene openScene(std::string_view spec, uint64_t memoryLimitBytes) {
   if (spec.empty())
     throw SceneError("scene '': empty specification (a generator name such as 'city', or a file)");
   const size_t colon = spec.find(':');
@@ -260,9 +296,11 @@ Scene openScene(std::string_view spec) {
   if (const GeneratorInfo* generator = findGenerator(head))
     return openGenerator(
         *generator, spec,
-        colon == std::string_view::npos ? std::string_view{} : spec.substr(colon + 1));
+        colon == std::string_view::npos ? std::string_view{} : spec.substr(colon + 1),
+        memoryLimitBytes);
 
-  const std::filesystem::path path{spec};
+  const ModelSpec model = modelSpec(spec);
+  const std::filesystem::path path{model.path};
   std::error_code error;
   if (!std::filesystem::exists(path, error)) {
     const bool looksLikeFile = head.find_first_of("./\\") != std::string_view::npos;
@@ -272,7 +310,13 @@ Scene openScene(std::string_view spec) {
                       generatorNames()));
     throw SceneError(fmt::format("scene '{}': no such file", spec));
   }
-  return hasJsonExtension(path) ? loadSceneFile(path) : detail::loadModelScene(path);
+  if (!hasJsonExtension(path)) return detail::loadModelScene(path, model.closed, memoryLimitBytes);
+  if (model.closednessGiven)
+    throw SceneError(
+        fmt::format("scene '{}': ':closed' and ':open' apply to model files; a scene file says "
+                    "\"closed\" per mesh",
+                    spec));
+  return loadSceneFile(path, memoryLimitBytes);
 }
 
 }  // namespace sb

@@ -30,6 +30,16 @@ enum class LightKind { Directional, Spot };
 // which keeps the ratio of a voxel's height to its depth constant.
 enum class DepthDistribution { Linear, Logarithmic };
 
+// The widest spot light. Its map is planar: a texel at angle θ off the axis spans cos²θ of the
+// angle a central texel spans, so towards 180° nearly every texel lies at the rim, and
+// tan(fov/2), which scales the frustum, grows without bound. 179° (tan 89.5° ≈ 115) is the
+// widest the harness fits.
+inline constexpr float kMaxSpotFovDegrees = 179.0f;
+// A spot light's fov is accepted when 0 < fov < kMaxSpotFovDegrees (in float, as it is stored).
+constexpr bool isValidSpotFov(float degrees) {
+  return degrees > 0.0f && degrees < kMaxSpotFovDegrees;
+}
+
 struct LightSpec {
   LightKind kind = LightKind::Directional;
   glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world-space direction in which the light travels
@@ -63,6 +73,13 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// What a scene will hold and occupy, known before it is built: from a generator's knobs, or
+// from the counts a model file's header declares.
+struct SceneFootprint {
+  uint64_t vertices = 0, triangles = 0;  // at most
+  uint64_t bytes = 0;                    // memory at the peak of building it
+};
+
 // A deterministic procedural scene generator: the same (size, seed) gives the same bytes on
 // every machine (own PRNG, no std distributions). `size` is the generator's own knob.
 struct GeneratorInfo {
@@ -71,6 +88,9 @@ struct GeneratorInfo {
   uint32_t defaultSize;  // small enough for CI
   uint32_t fullSize;     // the papers' scale
   std::function<Scene(uint32_t size, uint64_t seed)> generate;
+  // An upper bound for every seed, so that a size too large for the memory is refused before
+  // anything is allocated.
+  std::function<SceneFootprint(uint32_t size)> footprint;
 };
 
 const std::vector<GeneratorInfo>& sceneGenerators();
@@ -80,11 +100,19 @@ const std::vector<GeneratorInfo>& sceneGenerators();
 //   "city:full"                generator at its full size
 //   "city:size=40,seed=7"      explicit knobs
 //   "path/scene.json"          a scene file (meshes, transforms, closedness, lights)
-//   "path/model.obj|glb|ply…"  any model Assimp reads; one open mesh per model mesh and a
-//                              default directional light
+//   "path/model.obj|glb|ply…"  any model Assimp reads; one mesh per model mesh and a default
+//                              directional light; the meshes are open, or with
+//   "path/model.off:closed"    closed, each checked to be watertight and wound outward
+//                              (":open" says the default explicitly; the last ':' part is read
+//                              as closedness only when it is one of these two words)
+// A scene whose estimated memory (SceneFootprint, or a model header's counts) exceeds
+// `memoryLimitBytes` is refused before it is built; the first form takes the memory the
+// system has available now.
 Scene openScene(std::string_view spec);
+Scene openScene(std::string_view spec, uint64_t memoryLimitBytes);
 
 Scene loadSceneFile(const std::filesystem::path& path);
+Scene loadSceneFile(const std::filesystem::path& path, uint64_t memoryLimitBytes);
 
 // The default light for a scene without one: the sun from above and a little aside.
 LightSpec defaultLight();

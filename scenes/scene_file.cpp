@@ -23,7 +23,9 @@
 
 #include "scenes/det_math.h"
 #include "scenes/detail.h"
+#include "scenes/memory.h"
 #include "scenes/mesh_builder.h"
+#include "scenes/model_header.h"
 
 namespace sb {
 namespace {
@@ -76,8 +78,18 @@ std::string uniqueName(const std::string& name, std::set<std::string>& taken) {
 }
 
 // One open mesh per model mesh that has triangles; `prefix` starts every error message.
-std::vector<Mesh> readModel(const fs::path& path, const std::string& prefix) {
+std::vector<Mesh> readModel(const fs::path& path, const std::string& prefix,
+                            uint64_t memoryLimitBytes) {
   checkFile(path, prefix);
+  std::error_code error;
+  const uint64_t fileSize = fs::file_size(path, error);
+  if (error) throw SceneError(prefix + ": cannot read the file's size: " + error.message());
+  if (const auto footprint = detail::declaredFootprint(path, fileSize, prefix))
+    detail::checkFitsInMemory(
+        prefix,
+        fmt::format("reading the {} vertices and {} faces its header declares", footprint->vertices,
+                    footprint->triangles),
+        footprint->bytes, memoryLimitBytes, "use a smaller model");
   Assimp::Importer importer;
   // Without this, PreTransformVertices joins meshes that share a material, and their names.
   importer.SetPropertyBool(AI_CONFIG_PP_PTV_KEEP_HIERARCHY, true);
@@ -140,14 +152,18 @@ Mesh merge(std::vector<Mesh> parts) {
 
 class JsonReader {
  public:
-  JsonReader(std::string origin, fs::path folder)
-      : origin_(std::move(origin)), folder_(std::move(folder)) {}
+  JsonReader(std::string origin, fs::path folder, uint64_t memoryLimitBytes)
+      : origin_(std::move(origin)),
+        folder_(std::move(folder)),
+        memoryLimitBytes_(memoryLimitBytes) {}
 
   [[noreturn]] void fail(std::string_view where, std::string_view problem) const {
     throw SceneError(fmt::format("scene '{}': {}: {}", origin_, where, problem));
   }
   const std::string& origin() const { return origin_; }
   const fs::path& folder() const { return folder_; }
+  // What the scene's models and generators may take at most, each checked before it is read.
+  uint64_t memoryLimitBytes() const { return memoryLimitBytes_; }
 
   // An object whose keys are all among `allowed`.
   void object(const json& value, std::string_view where,
@@ -205,6 +221,7 @@ class JsonReader {
  private:
   std::string origin_;
   fs::path folder_;
+  uint64_t memoryLimitBytes_;
 };
 
 const json* member(const json& object, const char* key) {
@@ -339,6 +356,13 @@ Mesh readGenerated(const JsonReader& in, const json& value, const std::string& w
   if (size > std::numeric_limits<uint32_t>::max()) in.fail(at(where, "size"), "too large");
   Scene scene;
   try {
+    // The generated meshes, then their merged copy.
+    const SceneFootprint footprint = generator->footprint(static_cast<uint32_t>(size));
+    detail::checkFitsInMemory(fmt::format("scene '{}': {}", in.origin(), where),
+                              fmt::format("generating up to {} triangles", footprint.triangles),
+                              footprint.bytes + footprint.vertices * sizeof(glm::vec3) +
+                                  footprint.triangles * sizeof(glm::uvec3),
+                              in.memoryLimitBytes(), "choose a smaller size");
     scene = generator->generate(static_cast<uint32_t>(size), seed);
   } catch (const SceneError& e) {
     in.fail(where, e.what());
@@ -374,7 +398,8 @@ Mesh readMesh(const JsonReader& in, const json& value, size_t index) {
     const fs::path relative = in.string(*file, at(where, "file"));
     const fs::path path = relative.is_absolute() ? relative : in.folder() / relative;
     mesh = merge(readModel(
-        path, fmt::format("scene '{}': {}: model '{}'", in.origin(), where, path.string())));
+        path, fmt::format("scene '{}': {}: model '{}'", in.origin(), where, path.string()),
+        in.memoryLimitBytes()));
   } else if (const json* box = member(value, "box")) {
     mesh = readBox(in, *box, at(where, "box"));
     closedByDefault = true;
@@ -389,6 +414,10 @@ Mesh readMesh(const JsonReader& in, const json& value, size_t index) {
     mesh.closed = in.boolean(*closed, at(where, "closed"));
   if (mesh.closed && member(value, "generator") && !closedByDefault)
     in.fail(at(where, "closed"), "the generator's meshes are open");
+  // Boxes and closed generators are closed by construction; a model or inline geometry only by
+  // its author's word, which is checked.
+  if (mesh.closed && !closedByDefault)
+    detail::checkClosedMesh(mesh, fmt::format("scene '{}': {}", in.origin(), where));
   if (const json* transform = member(value, "transform"))
     applyTransform(mesh, readTransform(in, *transform, at(where, "transform")), in,
                    at(where, "transform"));
@@ -418,10 +447,11 @@ LightSpec readLight(const JsonReader& in, const json& value, size_t index) {
   if (!position) in.fail(where, "a spot light needs a 'position'");
   light.position = glm::vec3(in.vec3(*position, at(where, "position")));
   if (const json* fov = member(value, "fov")) {
-    const double degrees = in.number(*fov, at(where, "fov"));
-    if (!(degrees > 0.0 && degrees < 180.0))
-      in.fail(at(where, "fov"), "must lie strictly between 0 and 180 degrees");
-    light.fovDegrees = static_cast<float>(degrees);
+    // Checked as stored (a float): 179.99999999 is below 180 as a double but 180 as a float.
+    light.fovDegrees = static_cast<float>(in.number(*fov, at(where, "fov")));
+    if (!isValidSpotFov(light.fovDegrees))
+      in.fail(at(where, "fov"), fmt::format("{} degrees is outside the accepted range (0, {})",
+                                            light.fovDegrees, kMaxSpotFovDegrees));
   }
   if (const json* depth = member(value, "depth")) {
     const std::string d = in.string(*depth, at(where, "depth"));
@@ -459,6 +489,11 @@ Scene readScene(const JsonReader& in, const json& document, const fs::path& path
 }  // namespace
 
 Scene loadSceneFile(const std::filesystem::path& path) {
+  const uint64_t available = detail::availableMemoryBytes();
+  return loadSceneFile(path, available > 0 ? available : std::numeric_limits<uint64_t>::max());
+}
+
+Scene loadSceneFile(const std::filesystem::path& path, uint64_t memoryLimitBytes) {
   const std::string origin = path.string();
   try {
     const std::string text = readFile(path, fmt::format("scene '{}'", origin));
@@ -468,7 +503,8 @@ Scene loadSceneFile(const std::filesystem::path& path) {
     } catch (const json::parse_error& e) {
       throw SceneError(fmt::format("scene '{}': invalid JSON: {}", origin, oneLine(e.what())));
     }
-    Scene scene = readScene(JsonReader(origin, path.parent_path()), document, path);
+    Scene scene =
+        readScene(JsonReader(origin, path.parent_path(), memoryLimitBytes), document, path);
     detail::validateScene(scene, origin);
     return scene;
   } catch (const SceneError&) {
@@ -483,12 +519,16 @@ Scene loadSceneFile(const std::filesystem::path& path) {
 
 namespace detail {
 
-Scene loadModelScene(const std::filesystem::path& path) {
+Scene loadModelScene(const std::filesystem::path& path, bool closed, uint64_t memoryLimitBytes) {
   const std::string origin = path.string();
   try {
     Scene scene;
     scene.name = path.stem().string();
-    scene.meshes = readModel(path, fmt::format("scene '{}'", origin));
+    scene.meshes = readModel(path, fmt::format("scene '{}'", origin), memoryLimitBytes);
+    for (Mesh& mesh : scene.meshes) {
+      mesh.closed = closed;
+      if (closed) checkClosedMesh(mesh, fmt::format("scene '{}:closed'", origin));
+    }
     scene.lights = {defaultLight()};
     validateScene(scene, origin);
     return scene;

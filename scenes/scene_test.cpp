@@ -16,6 +16,7 @@
 #include <catch2/catch.hpp>
 
 #include "scenes/scene.h"
+#include "scenes/watertight.h"
 
 namespace fs = std::filesystem;
 using sb::Mesh;
@@ -23,42 +24,6 @@ using sb::Scene;
 using sb::SceneError;
 
 namespace {
-
-// Why `mesh` is not a closed, consistently outward-wound surface, or "" when it is: after
-// merging vertices at identical positions, every directed edge (a, b) must occur exactly once
-// and its reverse (b, a) exactly once.
-std::string closedSurfaceProblem(const Mesh& mesh) {
-  std::map<std::array<uint32_t, 3>, uint32_t> idOfPosition;
-  std::vector<uint32_t> id(mesh.vertices.size());
-  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
-    const glm::vec3 p = mesh.vertices[v] + 0.0f;  // -0 and +0 are the same position
-    const std::array<uint32_t, 3> key{std::bit_cast<uint32_t>(p.x), std::bit_cast<uint32_t>(p.y),
-                                      std::bit_cast<uint32_t>(p.z)};
-    id[v] = idOfPosition.emplace(key, static_cast<uint32_t>(idOfPosition.size())).first->second;
-  }
-  std::unordered_map<uint64_t, int> directedEdges;
-  for (const glm::uvec3& t : mesh.triangles) {
-    const uint32_t a = id[t.x], b = id[t.y], c = id[t.z];
-    if (a == b || b == c || c == a) return "a triangle has two corners at the same position";
-    for (auto [from, to] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
-      ++directedEdges[uint64_t{from} << 32 | to];
-  }
-  for (const auto& [edge, count] : directedEdges) {
-    if (count != 1) return "an edge is used twice in the same direction (inconsistent winding)";
-    const uint64_t reverse = edge << 32 | edge >> 32;
-    if (!directedEdges.count(reverse)) return "an edge has no opposite (a hole)";
-  }
-  return "";
-}
-
-double signedVolume(const Mesh& mesh) {
-  double volume = 0.0;
-  for (const glm::uvec3& t : mesh.triangles) {
-    const glm::dvec3 a = mesh.vertices[t.x], b = mesh.vertices[t.y], c = mesh.vertices[t.z];
-    volume += glm::dot(a, glm::cross(b, c)) / 6.0;
-  }
-  return volume;
-}
 
 bool validName(const std::string& name) {
   return !name.empty() && name.find_first_not_of(
@@ -77,8 +42,11 @@ void checkSceneInvariants(const Scene& scene) {
     CHECK(validName(mesh.name));
     CHECK(names.insert(mesh.name).second);
     if (mesh.closed) {
-      CHECK(closedSurfaceProblem(mesh) == "");
-      CHECK(signedVolume(mesh) > 0.0);
+      const sb::Watertightness surface = sb::checkWatertight(mesh);
+      INFO(surface.describe());
+      CHECK(surface.watertight());
+      CHECK(surface.degenerateTriangles == 0);
+      CHECK(sb::enclosedVolume(mesh) > 0.0);
     }
   }
 }
@@ -326,7 +294,7 @@ TEST_CASE("a scene file with a model, inline geometry, a generator and two light
   const glm::vec3 expected{std::sqrt(3.0f) / 2, 0.5f, 1.0f};
   CHECK(std::any_of(a.vertices.begin(), a.vertices.end(),
                     [&](glm::vec3 v) { return near(v, expected); }));
-  CHECK(std::abs(signedVolume(a) - 1.0) < 1e-5);
+  CHECK(std::abs(sb::enclosedVolume(a) - 1.0) < 1e-5);
 
   const Mesh& b = scene.meshes[1];
   CHECK(b.name == "b");
@@ -377,9 +345,9 @@ TEST_CASE("inline boxes, matrices and mirroring transforms", "[scenes][file]") {
     CHECK(mesh.closed);
     CHECK(mesh.triangles.size() == 12);
   }
-  CHECK(signedVolume(scene.meshes[0]) == Approx(48.0));
-  CHECK(signedVolume(scene.meshes[1]) == Approx(2.0));
-  CHECK(signedVolume(scene.meshes[2]) == Approx(1.0));  // winding flipped with the mirror
+  CHECK(sb::enclosedVolume(scene.meshes[0]) == Approx(48.0));
+  CHECK(sb::enclosedVolume(scene.meshes[1]) == Approx(2.0));
+  CHECK(sb::enclosedVolume(scene.meshes[2]) == Approx(1.0));  // winding flipped with the mirror
   CHECK(std::count(scene.meshes[1].vertices.begin(), scene.meshes[1].vertices.end(),
                    glm::vec3(6, 1, 2)) == 1);
   CHECK(scene.bounds().min == glm::vec3(-1, -2, -3));
@@ -546,4 +514,299 @@ TEST_CASE("truncated or corrupted scene files give a Scene or a SceneError, noth
       attempt(corrupt);
     }
   CHECK(scenes > 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Watertightness (issue 11: closedness of model files, `scene info`)
+
+namespace {
+
+// The unit cube as 12 triangles, outward, with the corners of each face repeated per face (as
+// model files often store them): edges join by position, not by index.
+Mesh cubeWithVerticesPerFace() {
+  const Scene scene = [] {
+    TempDir dir;
+    return sb::openScene(dir.write("cube.obj", kCubeObj).string());
+  }();
+  Mesh cube;
+  cube.name = "cube";
+  for (const glm::uvec3& t : scene.meshes[0].triangles) {
+    const auto first = static_cast<uint32_t>(cube.vertices.size());
+    for (int k = 0; k < 3; ++k) cube.vertices.push_back(scene.meshes[0].vertices[t[k]]);
+    cube.triangles.push_back({first, first + 1, first + 2});
+  }
+  return cube;
+}
+
+}  // namespace
+
+TEST_CASE("watertightness counts open edges by kind", "[scenes][watertight]") {
+  const Mesh cube = cubeWithVerticesPerFace();
+  REQUIRE(cube.triangles.size() == 12);
+  const sb::Watertightness whole = sb::checkWatertight(cube);
+  CHECK(whole.watertight());
+  CHECK(whole.edges == 18);  // 12 cube edges and 6 face diagonals
+  CHECK(whole.describe() == "watertight");
+  CHECK(sb::enclosedVolume(cube) == Approx(1.0));
+
+  Mesh holed = cube;  // one face (two triangles) removed: its four sides are a hole's rim
+  holed.triangles.resize(10);
+  const sb::Watertightness hole = sb::checkWatertight(holed);
+  CHECK(hole.boundaryEdges == 4);
+  CHECK(hole.openEdges() == 4);
+  CHECK_FALSE(hole.watertight());
+  CHECK_THAT(hole.describe(), Catch::StartsWith("not watertight: 4 open edges (4 on holes)"));
+
+  Mesh flipped = cube;  // one triangle wound the wrong way: its three edges run with neighbours
+  std::swap(flipped.triangles[0].y, flipped.triangles[0].z);
+  const sb::Watertightness flip = sb::checkWatertight(flipped);
+  CHECK(flip.misorientedEdges == 3);
+  CHECK(flip.boundaryEdges == 0);
+  CHECK(flip.openEdges() == 3);
+
+  Mesh fin = cube;  // a third triangle on a cube edge
+  fin.vertices.push_back({0.5f, -1.0f, 0.0f});
+  fin.triangles.push_back(
+      {fin.triangles[0].x, fin.triangles[0].y, static_cast<uint32_t>(fin.vertices.size() - 1)});
+  const sb::Watertightness finned = sb::checkWatertight(fin);
+  CHECK(finned.nonManifoldEdges == 1);
+  CHECK(finned.boundaryEdges == 2);
+
+  Mesh sliver = cube;  // a triangle without area changes nothing but is counted
+  sliver.triangles.push_back({0, 0, 1});
+  CHECK(sb::checkWatertight(sliver).watertight());
+  CHECK(sb::checkWatertight(sliver).degenerateTriangles == 1);
+
+  Mesh inverted = cube;
+  for (glm::uvec3& t : inverted.triangles) std::swap(t.y, t.z);
+  CHECK(sb::checkWatertight(inverted).watertight());
+  CHECK(sb::enclosedVolume(inverted) == Approx(-1.0));
+}
+
+TEST_CASE("a model file opens closed with ':closed', checked to be watertight",
+          "[scenes][watertight][spec]") {
+  TempDir dir;
+  const fs::path cube = dir.write("cube.obj", kCubeObj);
+  const Scene open = sb::openScene(cube.string());
+  const Scene closed = sb::openScene(cube.string() + ":closed");
+  REQUIRE(closed.meshes.size() == 1);
+  CHECK(closed.meshes[0].closed);
+  CHECK_FALSE(open.meshes[0].closed);
+  CHECK(closed.hash() != open.hash());
+  CHECK(sb::openScene(cube.string() + ":open").hash() == open.hash());
+  checkSceneInvariants(closed);
+
+  // OFF, a format of scanned objects: the cube without its top face.
+  const fs::path box = dir.write("box.off", R"(OFF
+8 5 0
+0 0 0
+1 0 0
+0 1 0
+1 1 0
+0 0 1
+1 0 1
+0 1 1
+1 1 1
+4 0 2 3 1
+4 0 1 5 4
+4 2 6 7 3
+4 0 4 6 2
+4 1 3 7 5
+)");
+  CHECK(sb::openScene(box.string()).triangleCount() == 10);
+  const std::string holed = sceneErrorOf([&] { sb::openScene(box.string() + ":closed"); });
+  CHECK_THAT(holed, Catch::StartsWith("scene '" + box.string() + ":closed': mesh '"));
+  CHECK_THAT(holed, Catch::Contains("is declared closed but is not watertight: 4 open edges"));
+  CHECK(holed.find('\n') == std::string::npos);
+
+  // Inside out: watertight, but the closed-object optimisation needs outward faces.
+  std::string inverted = kCubeObj;
+  for (const char* face :
+       {"f 1 3 4 2", "f 5 6 8 7", "f 1 2 6 5", "f 3 7 8 4", "f 1 5 7 3", "f 2 4 8 6"}) {
+    const std::string forward = face;
+    const std::string backward = "f " + std::string(forward.rbegin(), forward.rend() - 2);
+    inverted.replace(inverted.find(forward), forward.size(), backward);
+  }
+  const fs::path inside = dir.write("inside.obj", inverted);
+  CHECK_THAT(sceneErrorOf([&] { sb::openScene(inside.string() + ":closed"); }),
+             Catch::Contains("inside out"));
+
+  // A file whose name holds a ':' is still found; only a last ":closed" or ":open" is read.
+  const fs::path colon = dir.write("a:b.obj", kCubeObj);
+  CHECK(sb::openScene(colon.string()).triangleCount() == 12);
+  CHECK(sb::openScene(colon.string() + ":closed").meshes[0].closed);
+  CHECK_THAT(sceneErrorOf([&] { sb::openScene(cube.string() + ":shut"); }),
+             Catch::Contains("no such file"));
+
+  const fs::path json =
+      dir.write("s.json", R"({"meshes": [{"name": "cube", "file": "cube.obj"}]})");
+  CHECK_THAT(sceneErrorOf([&] { sb::openScene(json.string() + ":closed"); }),
+             Catch::Contains("a scene file says \"closed\" per mesh"));
+}
+
+TEST_CASE("a scene file's closed model or inline mesh must be watertight",
+          "[scenes][watertight][file]") {
+  TempDir dir;
+  dir.write("cube.obj", kCubeObj);
+  dir.write("open.obj", R"(v 0 0 0
+v 1 0 0
+v 1 1 0
+f 1 2 3
+)");
+  CHECK(sb::loadSceneFile(
+            dir.write("ok.json",
+                      R"({"meshes": [{"name": "c", "closed": true, "file": "cube.obj"}]})"))
+            .meshes[0]
+            .closed);
+  const std::string model = sceneErrorOf([&] {
+    sb::loadSceneFile(dir.write(
+        "m.json", R"({"meshes": [{"name": "tri", "closed": true, "file": "open.obj"}]})"));
+  });
+  CHECK_THAT(model, Catch::Contains("meshes[0]: mesh 'tri' is declared closed but is not "
+                                    "watertight: 3 open edges (3 on holes)"));
+  const std::string inlineMesh = sceneErrorOf([&] {
+    sb::loadSceneFile(dir.write(
+        "i.json",
+        R"({"meshes": [{"name": "t", "closed": true, "vertices": [[0,0,0],[1,0,0],[1,1,0]], "triangles": [[0,1,2]]}]})"));
+  });
+  CHECK_THAT(inlineMesh, Catch::Contains("mesh 't' is declared closed but is not watertight"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Memory refused up front (issue 11, item 8)
+
+TEST_CASE("generator footprints bound what the generators build", "[scenes][memory]") {
+  for (const auto& g : sb::sceneGenerators()) {
+    for (const uint32_t size : {g.defaultSize / 2, g.defaultSize}) {
+      INFO("generator " << g.name << " size " << size);
+      const Scene scene = g.generate(size, 1);
+      const sb::SceneFootprint footprint = g.footprint(size);
+      uint64_t vertices = 0, bytes = 0;
+      for (const Mesh& mesh : scene.meshes) {
+        vertices += mesh.vertices.size();
+        bytes += mesh.vertices.capacity() * sizeof(glm::vec3) +
+                 mesh.triangles.capacity() * sizeof(glm::uvec3);
+      }
+      CHECK(vertices <= footprint.vertices);
+      CHECK(scene.triangleCount() <= footprint.triangles);
+      CHECK(bytes <= footprint.bytes);
+      // A bound, yet not so loose that it refuses scenes that fit: within 4× of the real count.
+      CHECK(footprint.triangles <= 4 * scene.triangleCount());
+      if (g.name == "tangle" || g.name == "terrain") {
+        CHECK(footprint.triangles == scene.triangleCount());
+        CHECK(footprint.vertices == vertices);
+      }
+    }
+  }
+}
+
+TEST_CASE("a generator size too large for the memory is refused with the figure",
+          "[scenes][memory]") {
+  constexpr uint64_t kGiB = 1ull << 30;
+  const std::string tangle = sceneErrorOf([] { sb::openScene("tangle:size=20000", kGiB); });
+  CHECK_THAT(tangle, Catch::StartsWith("scene 'tangle:size=20000': generating up to 61440000 "
+                                       "triangles needs at least 2.06 GiB"));
+  CHECK_THAT(tangle,
+             Catch::Contains("only 1.00 GiB of memory is available; choose a smaller size"));
+  CHECK_THAT(sceneErrorOf([] { sb::openScene("city:size=200", kGiB); }),
+             Catch::Contains("choose a smaller size"));
+  CHECK_THAT(sceneErrorOf([] { sb::openScene("city:size=201", kGiB); }),
+             Catch::Contains("out of range"));
+  CHECK(sb::openScene("tangle:size=2", kGiB).triangleCount() == 2 * 3072);
+  TempDir dir;
+  const fs::path file =
+      dir.write("big.json", R"({"meshes": [{"name": "t", "generator": "tangle", "size": 20000}]})");
+  CHECK_THAT(sceneErrorOf([&] { sb::loadSceneFile(file, kGiB); }),
+             Catch::Contains("meshes[0]: generating up to 61440000 triangles needs at least"));
+}
+
+TEST_CASE("a model header that declares more than its file holds is refused before reading",
+          "[scenes][memory][errors]") {
+  TempDir dir;
+  const std::string plyHeader =
+      "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  auto ply = [&](const std::string& vertices) {
+    std::string text = plyHeader;
+    text.replace(text.find("{}"), 2, vertices);
+    return text + "0 0 0\n1 0 0\n1 1 0\n3 0 1 2\n";
+  };
+  const fs::path huge = dir.write("huge.ply", ply("4000000000"));
+  const std::string message = sceneErrorOf([&] { sb::openScene(huge.string()); });
+  CHECK_THAT(message, Catch::StartsWith("scene '" + huge.string() +
+                                        "': the header declares "
+                                        "4000000000 vertex and 1 face elements, which need at "
+                                        "least 24000000002 bytes, but the file is only "));
+  CHECK_THAT(message, Catch::EndsWith(std::to_string(fs::file_size(huge)) + " bytes long"));
+  CHECK(sb::openScene(dir.write("ok.ply", ply("3")).string()).triangleCount() == 1);
+  CHECK_THAT(sceneErrorOf([&] { sb::openScene(dir.write("five.ply", ply("5")).string()); }),
+             Catch::Contains("the file is only"));
+
+  const std::string binaryHeader =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 4000000000\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  const fs::path binary = dir.write("faces.ply", binaryHeader + std::string(36 + 13, '\0'));
+  CHECK_THAT(sceneErrorOf([&] { sb::openScene(binary.string()); }),
+             Catch::Contains("declares 3 vertex and 4000000000 face elements, which need at "
+                             "least 4000000036 bytes"));
+
+  const fs::path off = dir.write("huge.off",
+                                 "OFF\n# a comment\n3 4000000000 0\n0 0 0\n1 0 0\n"
+                                 "1 1 0\n3 0 1 2\n");
+  CHECK_THAT(sceneErrorOf([&] { sb::openScene(off.string()); }),
+             Catch::Contains("declares 3 vertex and 4000000000 face elements"));
+
+  std::string stl(84 + 50, '\0');  // one triangle, but the header says 4·10⁹
+  const uint32_t count = 4'000'000'000u;
+  for (int i = 0; i < 4; ++i) stl[80 + i] = static_cast<char>(count >> (8 * i));
+  const fs::path badStl = dir.write("huge.stl", stl);
+  CHECK_THAT(sceneErrorOf([&] { sb::openScene(badStl.string()); }),
+             Catch::Contains("the binary STL header declares 4000000000 triangles, which need "
+                             "200000000084 bytes, but the file is 134 bytes long"));
+}
+
+TEST_CASE("a model whose declared counts exceed the memory is refused with the figure",
+          "[scenes][memory]") {
+  TempDir dir;
+  // A binary STL of two triangles (normal, three corners, attribute): valid, and two triangles
+  // need more than 100 bytes.
+  std::string stl(80, '\0');
+  auto put = [&](auto value) {
+    stl.append(reinterpret_cast<const char*>(&value), sizeof(value));  // x86-64: little-endian
+  };
+  put(uint32_t{2});
+  for (const float z : {0.0f, 1.0f}) {
+    for (const float v : {0.0f, 0.0f, 1.0f, 0.0f, 0.0f, z, 1.0f, 0.0f, z, 1.0f, 1.0f, z}) put(v);
+    put(uint16_t{0});
+  }
+  REQUIRE(stl.size() == 84 + 2 * 50);
+  const fs::path file = dir.write("two.stl", stl);
+  CHECK_THAT(sceneErrorOf([&] { sb::openScene(file.string(), 100); }),
+             Catch::Contains("reading the 6 vertices and 2 faces its header declares needs at "
+                             "least"));
+  CHECK_NOTHROW(sb::openScene(file.string(), 1ull << 30));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Spot lights (issue 11: fov 179.9999 passed the scene check and failed later)
+
+TEST_CASE("a spot light's fov is checked against the range the harness accepts",
+          "[scenes][file][lights]") {
+  TempDir dir;
+  auto withFov = [&](const std::string& fov) {
+    return dir.write("spot.json",
+                     R"({"meshes": [{"name": "a", "box": {"min": [0,0,0], "max": [1,1,1]}}],
+                         "lights": [{"type": "spot", "position": [0,0,5], "direction": [0,0,-1], "fov": )" +
+                         fov + "}]}");
+  };
+  CHECK(sb::loadSceneFile(withFov("178.9")).lights[0].fovDegrees == 178.9f);
+  for (const char* fov : {"179.9999", "179", "179.99999999", "0", "-3", "180"}) {
+    INFO(fov);
+    const std::string message = sceneErrorOf([&] { sb::loadSceneFile(withFov(fov)); });
+    CHECK_THAT(message, Catch::Contains("lights[0].fov: "));
+    CHECK_THAT(message, Catch::Contains("degrees is outside the accepted range (0, 179)"));
+  }
+  CHECK(sb::isValidSpotFov(178.99f));
+  CHECK_FALSE(sb::isValidSpotFov(sb::kMaxSpotFovDegrees));
 }

@@ -15,6 +15,7 @@
 namespace sb::detail {
 namespace {
 
+constexpr uint32_t kMinSize = 1, kMaxSize = 20000;
 constexpr float kBallRadius = 10.0f;
 constexpr float kTubeRadius = 0.08f;
 constexpr float kStep = 0.15f;  // distance between successive rings
@@ -48,8 +49,18 @@ std::vector<glm::vec3> strandPath(Rng& rng) {
 
 }  // namespace
 
+SceneFootprint tangleFootprint(uint32_t size) {
+  checkSize("tangle", size, kMinSize, kMaxSize);
+  // Per strand: kRings rings of kSides vertices and two cap centres; kSides quads between
+  // successive rings and a fan of kSides triangles at each end.
+  constexpr uint64_t kVertices = kRings * kSides + 2,
+                     kTriangles = (kRings - 1) * kSides * 2 + 2 * kSides;
+  const uint64_t strandBytes = grownMeshBytes(kVertices, kTriangles) + sizeof(Mesh) * 2;
+  return {size * kVertices, size * kTriangles, size * strandBytes};
+}
+
 Scene generateTangle(uint32_t size, uint64_t seed) {
-  checkSize("tangle", size, 1, 20000);
+  checkSize("tangle", size, kMinSize, kMaxSize);
   Scene scene;
   scene.name = generatedSceneName("tangle", size, seed);
   const std::vector<float> radii(kRings, kTubeRadius);

@@ -15,6 +15,7 @@
 namespace sb::detail {
 namespace {
 
+constexpr uint32_t kMinSize = 2, kMaxSize = 4096;
 constexpr double kExtent = 1000.0;  // metres per side, centred on the origin
 constexpr double kRelief = 200.0;   // height of the highest peak above the lowest valley
 constexpr float kBottom = -50.0f;   // the flat underside
@@ -84,8 +85,19 @@ std::vector<uint32_t> boundaryLoop(uint32_t n) {
 
 }  // namespace
 
+SceneFootprint terrainFootprint(uint32_t size) {
+  checkSize("terrain", size, kMinSize, kMaxSize);
+  // The grid, a bottom copy of its boundary and a centre; two triangles per cell, two per wall
+  // quad and one per bottom fan segment. The mesh is reserved exactly; the heights are doubles.
+  const uint64_t n = size, gridVertices = (n + 1) * (n + 1);
+  const uint64_t vertices = gridVertices + 4 * n + 1, triangles = 2 * n * n + 12 * n;
+  return {vertices, triangles,
+          vertices * sizeof(glm::vec3) + triangles * sizeof(glm::uvec3) +
+              gridVertices * sizeof(double) + 4 * n * sizeof(uint32_t)};
+}
+
 Scene generateTerrain(uint32_t size, uint64_t seed) {
-  checkSize("terrain", size, 2, 4096);
+  checkSize("terrain", size, kMinSize, kMaxSize);
   const uint32_t n = size;
   const std::vector<double> height = fractalHeights(n, seed);
 
