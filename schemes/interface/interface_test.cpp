@@ -45,14 +45,15 @@ std::vector<float> answersOnGrid(const Decoder& decoder, uint32_t resolution) {
   return answers;
 }
 
-// Point and 3×3 lookups at every texel: what reaches every part of a loaded structure.
+// A point lookup at every texel: what reaches every part of a loaded structure (a PCF tap is
+// a point lookup of a neighbour).
 void touchEveryTexel(const Decoder& decoder, uint32_t resolution) {
   std::vector<Query> queries;
   for (uint32_t j = 0; j < resolution; ++j)
     for (uint32_t i = 0; i < resolution; ++i)
       queries.push_back({(i + 0.5f) / resolution, (j + 0.5f) / resolution, 0.5f});
   std::vector<float> answers(queries.size());
-  for (int k : {1, 3}) decoder.lookup(queries, k, std::span(answers));
+  decoder.lookup(queries, 1, std::span(answers));
 }
 
 std::vector<uint8_t> readFile(const std::string& path) {
@@ -291,8 +292,11 @@ TEST_CASE("every loader refuses or survives crafted payloads of every length",
       INFO("payload truncated to " << length << " bytes");
       CHECK_THROWS_AS(decodeStructureFile(truncated.join(), nullptr), FormatError);
     }
+    // Every byte of the small payloads; a spread of about 2048 over the larger variants, whose
+    // full sweep would take minutes under the sanitizers.
+    const size_t stride = parts.payload.size() / 2048 + 1;
     size_t refused = 0;
-    for (size_t at = 0; at < parts.payload.size(); ++at) {
+    for (size_t at = 0; at < parts.payload.size(); at += stride) {
       StructureFileParts corrupted = parts;
       corrupted.payload[at] ^= uint8_t(1u << (at % 8));
       try {

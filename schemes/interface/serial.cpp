@@ -326,7 +326,7 @@ std::unique_ptr<Decoder> loadStructure(const std::filesystem::path& path, Struct
     checkHeaderFits(headerBytes, file.size());
     std::string json(headerBytes, '\0');
     file.read(kPrefixBytes, std::span(reinterpret_cast<uint8_t*>(json.data()), json.size()));
-    parseHeader(json);
+    parseHeader(json);  // a foreign or crafted header is refused before the payload is read
     uint64_t payloadBytes;
     file.read(kPrefixBytes + headerBytes,
               std::span(reinterpret_cast<uint8_t*>(&payloadBytes), sizeof payloadBytes));
