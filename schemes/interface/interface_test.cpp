@@ -495,6 +495,12 @@ TEST_CASE("loading reads a file's header before its payload and only regular fil
   const std::filesystem::path tiny = dir.path() / "tiny.sb";
   writeFile(tiny, std::span(file).first(20));
   CHECK_THAT(loadError(tiny), Catch::Contains("shorter than any"));
+  // What `query` of a cut file says (tests/cli_test.sh), wherever the cut falls.
+  for (size_t length : {size_t(40), size_t(200), file.size() - 1}) {
+    INFO(length);
+    writeFile(tiny, std::span(file).first(length));
+    CHECK_THAT(loadError(tiny), Catch::Contains("truncated or corrupted"));
+  }
 }
 
 // Each format is pinned by tests/golden/<scheme>[_<param>-<value>].sb; regenerate deliberately

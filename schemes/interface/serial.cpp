@@ -161,15 +161,18 @@ void checkFileSize(uint64_t fileBytes) {
 
 void checkHeaderFits(uint32_t headerBytes, uint64_t fileBytes) {
   if (headerBytes > fileBytes - kFramingBytes)
-    throw FormatError(fmt::format("structure header length {} is invalid", headerBytes));
+    throw FormatError(fmt::format(
+        "structure file is truncated or corrupted: a header of {} bytes does not fit {} bytes",
+        headerBytes, fileBytes));
 }
 
 // The payload length stored after the header must account for every other byte of the file.
 void checkPayloadLength(uint64_t payloadBytes, uint32_t headerBytes, uint64_t fileBytes) {
   const uint64_t left = fileBytes - kFramingBytes - headerBytes;
   if (payloadBytes != left)
-    throw FormatError(fmt::format("payload length {} does not match the file ({} bytes left)",
-                                  payloadBytes, left));
+    throw FormatError(fmt::format(
+        "structure file is truncated or corrupted: payload length {} where the file holds {}",
+        payloadBytes, left));
 }
 
 uint64_t loadU64(const uint8_t* bytes) {
