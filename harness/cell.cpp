@@ -114,8 +114,8 @@ nlohmann::json runCell(const CellSpec& cell, const Scene& scene, const CellOptio
                       {"baseline_rss_bytes", built.baselineRssBytes}};
 
   if (options.saveStructureTo)
-    saveStructure(*options.saveStructureTo, {scheme.name, built.params.text(), built.map},
-                  *built.decoder);
+    saveStructure(*options.saveStructureTo,
+                  {scheme.name, built.params.text(), built.map, scene.hash()}, *built.decoder);
 
   if (options.verify) {
     const uint64_t expected = cell.resolution <= options.verifyOptions.exhaustiveUpTo

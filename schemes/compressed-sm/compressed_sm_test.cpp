@@ -174,7 +174,6 @@ TEST_CASE("compressed-sm: the loader rejects a row index past the segments", "[c
   const SchemeInfo& scheme = findScheme("compressed-sm");
   const SyntheticMap map = SyntheticMap::random(8, DepthMode::Closed, 3);
   const auto decoder = map.build(scheme, {}, 8);
-  const StructureHeader header{scheme.name, scheme.resolve({}).text(), map.info(scheme.kind)};
   ByteWriter payload;
   decoder->save(payload);
   // The row index comes first: a u64 count, then R + 1 u32 entries. Push the last entry past

@@ -86,22 +86,34 @@ struct StructureHeader {
   std::string scheme;
   Params params;
   MapInfo map;
+  // Scene::hash() of the scene the structure was built from (16 lowercase hex digits), or ""
+  // for a structure built from no scene (a synthetic map in a test).
+  std::string sceneHash;
 };
 
 // Structure file layout (all little-endian):
 //   8 bytes  magic "SHDWBNCH"
 //   u32      container version (kStructureFileVersion)
-//   u32      header length H, then H bytes of JSON {scheme, params, resolution, depth_resolution,
-//   mode} u64      payload length P, then P bytes of the scheme's payload u64      XXH3-64 of every
-//   byte before it
-inline constexpr uint32_t kStructureFileVersion = 1;
+//   u32      header length H, then H bytes of JSON, exactly as the writer dumps it: the keys
+//            depth_resolution, mode, params (an object of strings), resolution, scene_hash, scheme
+//   u64      payload length P, then P bytes: the payload tag (u8 length n, then the n bytes of
+//            the writing scheme's name), then the scheme's payload
+//   u64      XXH3-64 of every byte before it
+// The tag makes a payload self-identifying: formats that two schemes share (mh and mmh) cannot
+// be swapped under each other's header.
+inline constexpr uint32_t kStructureFileVersion = 2;
 
+// Throws std::invalid_argument for a header the reader would refuse (an invalid scene hash).
 std::vector<uint8_t> encodeStructureFile(const StructureHeader& header, const Decoder& decoder);
-// Validates magic, version, checksum and header, then has the scheme validate its payload.
+// Validates magic, version, checksum, header (every value exactly as a writer writes it, the
+// parameters against the scheme's registry row) and payload tag, then has the scheme validate
+// its payload. Throws FormatError.
 std::unique_ptr<Decoder> decodeStructureFile(std::span<const uint8_t> file,
                                              StructureHeader* header);
 
 // File versions of the two above; `save` writes atomically (temporary file, then rename).
+// `load` refuses anything but a regular file, and reads the payload only after the fixed-size
+// prefix, the header and the payload length agree with the file's size.
 void saveStructure(const std::filesystem::path& path, const StructureHeader& header,
                    const Decoder& decoder);
 std::unique_ptr<Decoder> loadStructure(const std::filesystem::path& path, StructureHeader* header);

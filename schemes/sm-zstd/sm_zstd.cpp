@@ -94,6 +94,10 @@ class SmZstdDecoder final : public DepthDecoder<SmZstdDecoder> {
       if (!decompressBlock(threadContext(), frame(block), texels))
         throw FormatError(fmt::format("{}: block {} does not decompress to {}² floats", kScheme,
                                       block, blockSide_));
+      // The blocks hold each texel's lo as sm32 stores it: never NaN, infinite or outside
+      // [0, 1] (DESIGN §3).
+      if (!std::all_of(texels.begin(), texels.end(), [](float d) { return d >= 0 && d <= 1; }))
+        throw FormatError(fmt::format("{}: block {} holds a depth outside [0, 1]", kScheme, block));
     }
   }
 

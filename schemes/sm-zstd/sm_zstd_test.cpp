@@ -1,7 +1,11 @@
 // sm-zstd beside the code: blocks larger and smaller than a tile, and tiles in any order, assemble
 // the same map as sm32, lookups from several threads share no cache entries, and a payload whose
-// block offsets or frames are damaged (behind a valid checksum) does not load.
+// block offsets, frames or depths are damaged (behind a valid checksum) does not load.
+#include <zstd.h>
+
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <thread>
 
 #include <catch2/catch.hpp>
@@ -138,6 +142,46 @@ TEST_CASE("sm-zstd rejects damaged block offsets and frames at load", "[sm-zstd]
     frameDamaged = payload;
     frameDamaged[at] ^= 0x40;
     CHECK_THROWS_AS(load(frameDamaged), FormatError);
+  }
+}
+
+TEST_CASE("sm-zstd refuses blocks holding depths its encoder never writes", "[sm-zstd][format]") {
+  // Issue 11: as in sm32, NaN, infinite or negative depths behind a valid checksum loaded.
+  const SchemeInfo& scheme = findScheme("sm-zstd");
+  const SyntheticMap map = SyntheticMap::random(16, DepthMode::Open, 5);
+  const ParamValues params = scheme.resolve({{"block", "8"}});
+  ByteWriter writer;
+  map.build(scheme, params.text(), 16)->save(writer);
+  ByteReader reader(writer.bytes());
+  const auto offsets = reader.getArray<uint64_t>("offsets");
+  const auto blocks = reader.getArray<uint8_t>("blocks");
+  // Block 0 recompressed with one texel replaced, the offsets of the others shifted.
+  auto withFirstTexel = [&](float depth) {
+    std::vector<float> texels(8 * 8);
+    REQUIRE(ZSTD_decompress(texels.data(), texels.size() * sizeof(float), blocks.data(),
+                            offsets[1]) == texels.size() * sizeof(float));
+    texels[0] = depth;
+    std::vector<uint8_t> frame(ZSTD_compressBound(texels.size() * sizeof(float)));
+    frame.resize(
+        ZSTD_compress(frame.data(), frame.size(), texels.data(), texels.size() * sizeof(float), 3));
+    std::vector<uint8_t> crafted = frame;
+    crafted.insert(crafted.end(), blocks.begin() + int64_t(offsets[1]), blocks.end());
+    std::vector<uint64_t> shifted = offsets;
+    for (size_t b = 1; b < shifted.size(); ++b) shifted[b] = shifted[b] - offsets[1] + frame.size();
+    ByteWriter payload;
+    payload.putArray<uint64_t>(shifted);
+    payload.putArray<uint8_t>(crafted);
+    return payload.release();
+  };
+  auto load = [&](const std::vector<uint8_t>& bytes) {
+    ByteReader in(bytes);
+    scheme.load(in, map.info(scheme.kind), params);
+  };
+  for (float good : {0.0f, 0.25f, 1.0f}) CHECK_NOTHROW(load(withFirstTexel(good)));
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  for (float bad : {std::nanf(""), kInf, -kInf, -0.5f, 1.5f}) {
+    INFO(bad);
+    CHECK_THROWS_WITH(load(withFirstTexel(bad)), Catch::Contains("outside [0, 1]"));
   }
 }
 

@@ -59,8 +59,14 @@ SchemeInfo sm32() {
   };
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues&) -> std::unique_ptr<Decoder> {
-    return std::make_unique<Sm32Decoder>(map.resolution,
-                                         in.getArray<float>("sm32 depths", map.texelCount()));
+    std::vector<float> depths = in.getArray<float>("sm32 depths", map.texelCount());
+    // The encoder stores each texel's lo: a first hit inside the frustum, or 1 for a ray that
+    // hit nothing (DESIGN §2, §3), so never NaN, infinite or outside [0, 1].
+    for (size_t t = 0; t < depths.size(); ++t)
+      if (!(depths[t] >= 0.0f && depths[t] <= 1.0f))
+        throw FormatError(fmt::format("sm32 depths: texel ({}, {}) holds {}, outside [0, 1]",
+                                      t % map.resolution, t / map.resolution, depths[t]));
+    return std::make_unique<Sm32Decoder>(map.resolution, std::move(depths));
   };
   return info;
 }
