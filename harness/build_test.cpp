@@ -1,0 +1,75 @@
+// One build: memory refused before any work with estimates that follow the build's shape, and
+// only the phases a scheme ran in its record.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+
+#include "harness/build.h"
+#include "harness/cell.h"
+#include "harness/record.h"
+
+using namespace sb;
+
+namespace {
+
+std::vector<std::string> phaseNames(const BuildOutcome& built) {
+  std::vector<std::string> names;
+  for (const auto& [name, seconds] : built.phaseSeconds) names.push_back(name);
+  return names;
+}
+
+BuildOutcome buildSmall(const std::string& schemeName) {
+  const Scene scene = openScene("city:size=2,seed=1");
+  const SchemeInfo& scheme = findScheme(schemeName);
+  const DepthSource source(scene, sceneLight(scene, 0), DepthMode::Closed, 128);
+  return buildStructure(source, scheme, scheme.resolve({}), BuildShape{32});
+}
+
+}  // namespace
+
+TEST_CASE("the tile size changes the memory estimate of the schemes whose working set it sizes",
+          "[build][regression]") {
+  // The estimate used to assume 512² tiles whatever --tile said.
+  for (const char* name : {"mh", "mmh", "dag-mh", "compressed-sm", "cpvs", "cpvs-fast"}) {
+    INFO(name);
+    const SchemeInfo& scheme = findScheme(name);
+    const MapInfo map = mapFor(scheme, DepthMode::Closed, 16384);
+    const ParamValues params = scheme.resolve({});
+    CHECK(scheme.buildBytes(map, params, BuildShape{64}) <
+          scheme.buildBytes(map, params, BuildShape{1024}));
+  }
+}
+
+TEST_CASE("a build that cannot fit is refused before it starts, naming the figures",
+          "[build][regression]") {
+  // sm-zstd reserves its frames at the raw map's compression bound: at 128K² that is 64 GiB,
+  // which ended in std::bad_alloc after the depth pass had started.
+  const SchemeInfo& scheme = findScheme("sm-zstd");
+  const MapInfo map = mapFor(scheme, DepthMode::Closed, 131072);
+  const ParamValues params = scheme.resolve({});
+  const BuildShape shape{512};
+  REQUIRE(scheme.buildBytes(map, params, shape) > (uint64_t(64) << 30));
+  if (availableMemoryBytes() < scheme.buildBytes(map, params, shape))
+    CHECK_THROWS_WITH(checkBuildFits(scheme, map, params, shape),
+                      Catch::Contains("sm-zstd") && Catch::Contains("GiB"));
+  // Every scheme's estimate grows with the map it builds.
+  for (const SchemeInfo& s : schemes()) {
+    INFO(s.name);
+    const ParamValues defaults = s.resolve({});
+    CHECK(s.buildBytes(mapFor(s, DepthMode::Closed, 1024), defaults, shape) <=
+          s.buildBytes(mapFor(s, DepthMode::Closed, 65536), defaults, shape));
+  }
+}
+
+TEST_CASE("a record lists only the phases a scheme ran", "[build][regression]") {
+  // Every build used to record an "encode" phase of almost no time beside the phases the scheme
+  // named from its first call on.
+  const auto mh = phaseNames(buildSmall("mh"));
+  CHECK(mh == std::vector<std::string>{"mh", "serialise"});
+  const auto cpvs = phaseNames(buildSmall("cpvs"));
+  CHECK(std::find(cpvs.begin(), cpvs.end(), "encode") == cpvs.end());
+  // A scheme that names no phase spent its time encoding.
+  const BuildOutcome sm32 = buildSmall("sm32");
+  CHECK(phaseNames(sm32) == std::vector<std::string>{"encode"});
+  CHECK(sm32.phaseSeconds[0].second > 0);
+}
