@@ -1,5 +1,6 @@
 #include "harness/cell_key.h"
 
+#include <algorithm>
 #include <cstdint>
 
 #include <fmt/format.h>
@@ -46,10 +47,10 @@ std::string fileNamePart(std::string_view text) {
   // A leading '.' would hide the file; edge dashes only make names harder to read.
   const size_t begin = part.find_first_not_of(".-");
   unusual = unusual || (begin != std::string::npos && part.find('.') < begin);
-  part = begin == std::string::npos ? std::string() : part.substr(begin);
+  part.erase(0, std::min(begin, part.size()));
   while (!part.empty() && part.back() == '-') part.pop_back();
   if (part.empty()) {
-    part = "x";
+    part.push_back('x');
     unusual = unusual || !text.empty();
   }
   if (unusual) part += fmt::format("-{:08x}", uint32_t(fnv1a(text)));

@@ -68,8 +68,10 @@ class Fields {
 
   static uint64_t countValue(const json& value, const std::string& name) {
     if (value.is_number_unsigned()) return value.get<uint64_t>();
-    if (value.is_number_integer())
+    if (value.is_number_integer()) {
+      if (value.get<int64_t>() >= 0) return value.get<uint64_t>();
       throw RecordError(fmt::format("{} is {}: it cannot be negative", name, shown(value)));
+    }
     if (value.is_number_float()) {
       const double number = value.get<double>();
       if (number >= 0 && number < 0x1p64 && number == std::floor(number)) return uint64_t(number);
