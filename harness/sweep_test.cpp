@@ -114,8 +114,25 @@ TEST_CASE("a sweep reuses a record only for the same cell content", "[sweep]") {
   // The tables see the current records only; the two "model" scenes share a table cell, which
   // the table step reports.
   CHECK(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-    return w.find("records of one table cell") != std::string::npos;
+    return w.find("records of one table cell") != std::string::npos &&
+           w.find("scene specs") != std::string::npos;
   }));
+}
+
+TEST_CASE("a record named before the identity hash is reused and renamed, not rebuilt", "[sweep]") {
+  ScratchDir dir("sb-sweep-test");
+  const sb::SweepSpec spec = tinySweep(dir.path() / "out");
+  REQUIRE(sb::runSweep(spec).built == 1);
+  const std::string name = jsonFilesIn(spec.out).at(0);
+  const sb::Record record = sb::loadRecord(spec.out / name);
+  const fs::path legacy = spec.out / (sb::readableCellKey(record) + ".json");
+  fs::rename(spec.out / name, legacy);
+
+  const sb::SweepOutcome resumed = sb::runSweep(spec);
+  CHECK(resumed.built == 0);
+  CHECK(resumed.reused == 1);
+  CHECK(jsonFilesIn(spec.out) == std::vector<std::string>{name});
+  CHECK(nlohmann::json(sb::loadRecord(spec.out / name)) == nlohmann::json(record));
 }
 
 // Issue 11 A9: a bad entry late in a list, a cell that cannot fit, or an unwritable folder were

@@ -398,6 +398,12 @@ FolderTables tablesOfFolder(const fs::path& recordsDir) {
             loaded.records[used].scene.name, loaded.records[used].lightIndex,
             loaded.records[used].mode, variantOf(loaded.records[used]).label(),
             resolutionHeading(loaded.records[used].resolution), why));
+        const std::string &usedSpec = loaded.records[used].scene.spec,
+                          &unusedSpec = loaded.records[unused].scene.spec;
+        if (usedSpec != unusedSpec)
+          result.problems.back() += fmt::format(
+              "; they come from the scene specs '{}' and '{}', whose scenes have one name",
+              unusedSpec, usedSpec);
       });
   result.records = shown.size();
   result.tables = tablesOf(shown);
