@@ -73,7 +73,7 @@ std::string readableCellKey(const Record& r) {
 }
 
 std::string cellKey(const Record& r) {
-  return fmt::format("{}_{:08x}", readableCellKey(r), uint32_t(fnv1a(cellIdentity(r).dump())));
+  return fmt::format("{}_{:08x}", readableCellKey(r), uint32_t(fnv1a(cellRequest(r).dump())));
 }
 
 }  // namespace sb

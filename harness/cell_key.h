@@ -26,10 +26,10 @@ nlohmann::json cellIdentity(const Record& record);
 // identity hash was added are named by this alone.
 std::string readableCellKey(const Record& record);
 
-// readableCellKey + "_" + 8 hex digits of a hash of cellIdentity: cells that read alike (two
-// "model" scenes from different folders, an edited scene) get different files. Needs only the
-// identifying fields, so a sweep can name a cell before building it. The record file of a cell
-// is cellKey(record) + ".json".
+// readableCellKey + "_" + 8 hex digits of a hash of cellRequest: requests that read alike (two
+// "model" scenes from different folders) get different files, while a rebuilt cell of an edited
+// scene replaces its record at the same name. Needs only the identifying fields, so a sweep can
+// name a cell before building it. The record file of a cell is cellKey(record) + ".json".
 std::string cellKey(const Record& record);
 
 // `text` reduced to [a-z0-9.-] for use inside file names: lower case, other characters become

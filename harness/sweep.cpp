@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "harness/cell_key.h"
 #include "harness/cell_lock.h"
@@ -178,37 +179,35 @@ class Sweeper {
   SweepOutcome outcome;
 
  private:
-  // Records of the same request as `cell` but another identity (an edited scene, another record
-  // format), and whatever unreadable file sits at the cell's path: kept, never reused.
+  // What the new record replaces, kept and never reused: the file at the cell's path (another
+  // identity — an edited scene — or not a record at all) and a record of the same request under
+  // the name used before the identity hash.
   void moveAsideOlderRecords(const PlannedCell& cell) {
-    const std::string readable = readableCellKey(cell.identity);
-    std::vector<fs::path> older;
     std::error_code error;
-    for (fs::directory_iterator it(spec_.out, error), end; !error && it != end;
-         it.increment(error)) {
-      const fs::path& path = it->path();
-      const std::string stem = path.stem().string();
-      const bool sameReadable =
-          stem == readable || (stem.size() == readable.size() + 9 &&
-                               stem.compare(0, readable.size() + 1, readable + "_") == 0);
-      if (path.extension() != ".json" || !sameReadable) continue;
-      try {
-        const Record record = loadRecord(path);
-        if (cellRequest(record) == cellRequest(cell.identity) &&
-            cellIdentity(record) != cellIdentity(cell.identity))
-          older.push_back(path);
-      } catch (const RecordError&) {
-        if (path == cell.path) older.push_back(path);
-      }
+    if (fs::exists(cell.path, error)) moveAside(cell.path, cell);
+    try {
+      if (fs::exists(cell.legacyPath, error) &&
+          cellRequest(loadRecord(cell.legacyPath)) == cellRequest(cell.identity))
+        moveAside(cell.legacyPath, cell);
+    } catch (const RecordError&) {
+      // Not a record: not this cell's to move.
     }
-    for (const fs::path& path : older) moveAside(path);
   }
 
-  void moveAside(const fs::path& path) {
-    std::string created;
+  // Moves `path` to <out>/superseded/<name>.<created>.json, saying why it no longer answers
+  // `cell`.
+  void moveAside(const fs::path& path, const PlannedCell& cell) {
+    std::string created, why;
     try {
-      created = loadRecord(path).created;
-    } catch (const RecordError&) {
+      const Record old = loadRecord(path);
+      created = old.created;
+      const nlohmann::json was = cellIdentity(old), now = cellIdentity(cell.identity);
+      std::vector<std::string> changed;
+      for (const auto& [field, value] : now.items())
+        if (was.value(field, nlohmann::json()) != value) changed.push_back(field);
+      why = fmt::format("its {} differ", fmt::join(changed, ", "));
+    } catch (const RecordError& error) {
+      why = error.what();
     }
     const fs::path folder = spec_.out / kSupersededFolder;
     fs::create_directories(folder);
@@ -217,8 +216,8 @@ class Sweeper {
     for (int n = 2; fs::exists(target); ++n) target = folder / fmt::format("{}-{}.json", base, n);
     fs::rename(path, target);
     ++outcome.superseded;
-    warn(fmt::format("'{}' answers an older version of its cell: moved to '{}'", path.string(),
-                     target.string()));
+    warn(fmt::format("'{}' does not answer cell {} ({}): moved to '{}'", path.string(), cell.key,
+                     why, target.string()));
   }
 
   const SweepSpec& spec_;
