@@ -64,7 +64,7 @@ std::string readableCellKey(const Record& r) {
     key += fmt::format("_{}-{}", fileNamePart(name), fileNamePart(value));
   key += fmt::format("_{}", r.resolution);
 
-  // File names stop at 255 bytes; the identity hash, ".json" and the temporary's prefix and
+  // File names stop at 255 bytes; the request hash, ".json" and the temporary's prefix and
   // suffix are added to this.
   constexpr size_t kMaxKey = 190;
   if (key.size() > kMaxKey)

@@ -23,7 +23,7 @@ nlohmann::json cellIdentity(const Record& record);
 // The readable part of a record's file name:
 //   <scene>_<light index>_<mode>_<scheme>[_<param>-<value>...]_<resolution>
 // lower case, characters [a-z0-9_.-] only, at most 190 characters. Records written before the
-// identity hash was added are named by this alone.
+// request hash was added are named by this alone.
 std::string readableCellKey(const Record& record);
 
 // readableCellKey + "_" + 8 hex digits of a hash of cellRequest: requests that read alike (two

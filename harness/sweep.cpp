@@ -134,12 +134,13 @@ SweepPlan plan(const SweepSpec& spec) {
   return plan;
 }
 
-// "2026-11-26T10:00:00Z" → "20261126T100000Z"; "undated" when unknown.
+// "2026-11-26T10:00:00Z" → "20261126T100000Z": the letters and digits of a record's time, for a
+// file name; "undated" when there are none.
 std::string compactTime(const std::string& created) {
   std::string compact;
   for (char c : created)
-    if (c != '-' && c != ':') compact += c;
-  return compact.empty() ? "undated" : fileNamePart(compact);
+    if ((c >= '0' && c <= '9') || (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z')) compact += c;
+  return compact.empty() ? std::string("undated") : compact;
 }
 
 class Sweeper {
@@ -181,7 +182,7 @@ class Sweeper {
  private:
   // What the new record replaces, kept and never reused: the file at the cell's path (another
   // identity — an edited scene — or not a record at all) and a record of the same request under
-  // the name used before the identity hash.
+  // the name used before the request hash.
   void moveAsideOlderRecords(const PlannedCell& cell) {
     std::error_code error;
     if (fs::exists(cell.path, error)) moveAside(cell.path, cell);

@@ -120,7 +120,7 @@ TEST_CASE("a sweep reuses a record only for the same cell content", "[sweep]") {
   }));
 }
 
-TEST_CASE("a record named before the identity hash is reused and renamed, not rebuilt", "[sweep]") {
+TEST_CASE("a record named before the request hash is reused and renamed, not rebuilt", "[sweep]") {
   ScratchDir dir("sb-sweep-test");
   const sb::SweepSpec spec = tinySweep(dir.path() / "out");
   REQUIRE(sb::runSweep(spec).built == 1);
