@@ -1,7 +1,6 @@
 #include "harness/record_type.h"
 
 #include <cmath>
-#include <initializer_list>
 #include <set>
 
 #include <fmt/format.h>
