@@ -17,14 +17,14 @@ uint64_t fnv1a(std::string_view text) {
 
 }  // namespace
 
-nlohmann::json cellRequest(const Record& r) {
+nlohmann::json recordRequest(const Record& r) {
   return {{"scene", r.scene.spec},   {"light_index", r.lightIndex}, {"mode", r.mode},
           {"scheme", r.scheme.name}, {"params", r.scheme.params},   {"resolution", r.resolution},
           {"tile_size", r.tileSize}};
 }
 
-nlohmann::json cellIdentity(const Record& r) {
-  nlohmann::json identity = cellRequest(r);
+nlohmann::json recordIdentity(const Record& r) {
+  nlohmann::json identity = recordRequest(r);
   identity["format"] = r.format;
   identity["scene_name"] = r.scene.name;
   identity["scene_hash"] = r.scene.hash;
@@ -73,7 +73,7 @@ std::string readableCellKey(const Record& r) {
 }
 
 std::string cellKey(const Record& r) {
-  return fmt::format("{}_{:08x}", readableCellKey(r), uint32_t(fnv1a(cellRequest(r).dump())));
+  return fmt::format("{}_{:08x}", readableCellKey(r), uint32_t(fnv1a(recordRequest(r).dump())));
 }
 
 }  // namespace sb

@@ -13,12 +13,12 @@ namespace sb {
 // What a user asks for when naming a cell: the scene spec, light index, mode, scheme with its
 // resolved parameters, resolution and tile size. Records of one request that differ in their
 // identity are an older and a newer answer to it (an edited scene): the newer supersedes.
-nlohmann::json cellRequest(const Record& record);
+nlohmann::json recordRequest(const Record& record);
 
 // The request with everything that decides the result: the scene's name and hash (its content),
 // the fitted light and the record format. A record is reused for a cell only when the identities
 // are equal.
-nlohmann::json cellIdentity(const Record& record);
+nlohmann::json recordIdentity(const Record& record);
 
 // The readable part of a record's file name:
 //   <scene>_<light index>_<mode>_<scheme>[_<param>-<value>...]_<resolution>
@@ -26,7 +26,7 @@ nlohmann::json cellIdentity(const Record& record);
 // request hash was added are named by this alone.
 std::string readableCellKey(const Record& record);
 
-// readableCellKey + "_" + 8 hex digits of a hash of cellRequest: requests that read alike (two
+// readableCellKey + "_" + 8 hex digits of a hash of recordRequest: requests that read alike (two
 // "model" scenes from different folders) get different files, while a rebuilt cell of an edited
 // scene replaces its record at the same name. Needs only the identifying fields, so a sweep can
 // name a cell before building it. The record file of a cell is cellKey(record) + ".json".

@@ -358,18 +358,18 @@ TEST_CASE("requests that read alike have different keys; content is identity, no
   edited.scene.hash = "fedcba9876543210";
   edited.light["direction"] = {0, 0, -1};
   CHECK(sb::cellKey(edited) == sb::cellKey(base));
-  CHECK(sb::cellRequest(edited) == sb::cellRequest(base));
-  CHECK(sb::cellIdentity(edited) != sb::cellIdentity(base));
+  CHECK(sb::recordRequest(edited) == sb::recordRequest(base));
+  CHECK(sb::recordIdentity(edited) != sb::recordIdentity(base));
   sb::Record newFormat = base;
   newFormat.format = "shadowbench-record/2";
-  CHECK(sb::cellIdentity(newFormat) != sb::cellIdentity(base));
+  CHECK(sb::recordIdentity(newFormat) != sb::recordIdentity(base));
 
   // Measurements are neither: a rebuilt record of the same content is the same cell.
   sb::Record rebuilt = base;
   rebuilt.sizeBytes = 1;
   rebuilt.created = "2030-01-01T00:00:00Z";
   rebuilt.commit = "other";
-  CHECK(sb::cellIdentity(rebuilt) == sb::cellIdentity(base));
+  CHECK(sb::recordIdentity(rebuilt) == sb::recordIdentity(base));
 }
 
 TEST_CASE("cellKey is filesystem-safe and distinct for odd scene names", "[record]") {

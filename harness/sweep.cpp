@@ -26,7 +26,7 @@ namespace {
 struct PlannedCell {
   CellSpec spec;
   const Scene* scene = nullptr;
-  Record identity;  // cellIdentity: what a reusable record must match
+  Record identity;  // cellIdentity: a reusable record has its recordIdentity
   std::string key;
   fs::path path;        // out/<key>.json
   fs::path legacyPath;  // out/<readableCellKey>.json, where records were before the hash
@@ -91,7 +91,7 @@ std::optional<Record> answering(const fs::path& path, const Record& identity) {
   if (!fs::exists(path, error)) return std::nullopt;
   try {
     Record record = loadRecord(path);
-    if (cellIdentity(record) == cellIdentity(identity)) return record;
+    if (recordIdentity(record) == recordIdentity(identity)) return record;
   } catch (const RecordError&) {
   }
   return std::nullopt;
@@ -188,7 +188,7 @@ class Sweeper {
     if (fs::exists(cell.path, error)) moveAside(cell.path, cell);
     try {
       if (fs::exists(cell.legacyPath, error) &&
-          cellRequest(loadRecord(cell.legacyPath)) == cellRequest(cell.identity))
+          recordRequest(loadRecord(cell.legacyPath)) == recordRequest(cell.identity))
         moveAside(cell.legacyPath, cell);
     } catch (const RecordError&) {
       // Not a record: not this cell's to move.
@@ -202,7 +202,7 @@ class Sweeper {
     try {
       const Record old = loadRecord(path);
       created = old.created;
-      const nlohmann::json was = cellIdentity(old), now = cellIdentity(cell.identity);
+      const nlohmann::json was = recordIdentity(old), now = recordIdentity(cell.identity);
       std::vector<std::string> changed;
       for (const auto& [field, value] : now.items())
         if (was.value(field, nlohmann::json()) != value) changed.push_back(field);

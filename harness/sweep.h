@@ -41,7 +41,7 @@ struct SweepOutcome {
 // Checks the whole matrix before building anything — every scene spec opens, every mode,
 // resolution, scheme and parameter is valid, every cell still to build fits in memory, the
 // folder is writable — and throws naming the first problem. Then builds each cell unless a record
-// in `out` answers it (cellIdentity equal), under a CellLock: a cell another sweep holds is
+// in `out` answers it (recordIdentity equal), under a CellLock: a cell another sweep holds is
 // revisited at the end, after waiting for its lock. A rebuilt cell's older records (same
 // request, other identity) move to <out>/superseded/. A cell that fails does not stop the
 // sweep. Finally writes the tables of the folder to <out>/tables.
