@@ -6,9 +6,10 @@
 #include <fmt/format.h>
 
 #include "harness/lookup_timing.h"
+#include "harness/machine.h"
 #include "harness/progress.h"
 #include "harness/query_sets.h"
-#include "harness/record.h"
+#include "harness/source_commit.h"
 #include "schemes/interface/lightspace.h"
 #include "schemes/interface/serial.h"
 
@@ -55,32 +56,28 @@ Light sceneLight(const Scene& scene, uint32_t index) {
   return Light::fit(scene.lights[index], scene);
 }
 
-nlohmann::json cellIdentity(const CellSpec& cell, const Scene& scene) {
+Record cellIdentity(const CellSpec& cell, const Scene& scene) {
   const SchemeInfo& scheme = findScheme(cell.scheme);
-  nlohmann::json params = nlohmann::json::object();
+  Record record;
+  record.scene = {scene.name, cell.sceneSpec, scene.triangleCount(), scene.hash()};
+  record.lightIndex = cell.lightIndex;
+  record.light = sceneLight(scene, cell.lightIndex).describe();
+  record.mode = toString(cell.mode);
+  record.scheme.name = scheme.name;
+  record.scheme.kind = toString(scheme.kind);
   const ParamValues values = scheme.resolve(cell.params);
-  for (const auto& [name, value] : values.text()) params[name] = value;
-  return {{"format", "shadowbench-record/1"},
-          {"scene",
-           {{"name", scene.name},
-            {"spec", cell.sceneSpec},
-            {"triangles", scene.triangleCount()},
-            {"hash", scene.hash()}}},
-          {"light_index", cell.lightIndex},
-          {"mode", toString(cell.mode)},
-          {"scheme",
-           {{"name", scheme.name},
-            {"kind", toString(scheme.kind)},
-            {"params", params},
-            {"paper", scheme.paper}}},
-          {"resolution", cell.resolution}};
+  for (const auto& [name, value] : values.text()) record.scheme.params[name] = value;
+  record.scheme.paper = scheme.paper;
+  record.resolution = cell.resolution;
+  record.tileSize = cell.tileSize ? cell.tileSize : defaultTileSize(cell.resolution);
+  return record;
 }
 
-nlohmann::json runCell(const CellSpec& cell, const Scene& scene, const CellOptions& options) {
+Record runCell(const CellSpec& cell, const Scene& scene, const CellOptions& options) {
   const SchemeInfo& scheme = findScheme(cell.scheme);
-  nlohmann::json record = cellIdentity(cell, scene);
+  Record record = cellIdentity(cell, scene);
   const Light light = sceneLight(scene, cell.lightIndex);
-  const BuildShape shape{cell.tileSize ? cell.tileSize : defaultTileSize(cell.resolution)};
+  const BuildShape shape{record.tileSize};
   const ParamValues params = scheme.resolve(cell.params);
   // Refuse before the depth source spends time on the scene (buildStructure checks again).
   checkBuildFits(scheme, mapFor(scheme, cell.mode, cell.resolution), params, shape);
@@ -93,25 +90,18 @@ nlohmann::json runCell(const CellSpec& cell, const Scene& scene, const CellOptio
       buildStructure(source, scheme, params, shape, [&](uint64_t done) { building.set(done); });
   building.finish();
 
-  nlohmann::json components = nlohmann::json::object();
   const SizeBreakdown sizes = built.decoder->size();
-  for (const auto& [component, bytes] : sizes) components[component] = bytes;
-  nlohmann::json phases = nlohmann::json::object();
-  for (const auto& [phase, seconds] : built.phaseSeconds) phases[phase] = seconds;
-  record["light"] = light.describe();
-  record["depth_resolution"] = built.map.depthResolution;
-  record["tile_size"] = shape.tileSize;
-  record["size_bytes"] = {{"total", totalBytes(sizes)}, {"components", components}};
-  record["time_s"] = {
-      {"total", built.totalSeconds}, {"depth", built.depthSeconds}, {"phases", phases}};
-  record["depth"] = {
-      {"texels", built.texels},
-      {"mtexels_per_s", double(built.texels) / std::max(built.depthSeconds, 1e-9) * 1e-6},
-      {"closed_fallbacks", built.closedFallbacks},
-      {"method", toString(source.method())}};
-  record["counters"] = built.counters;
-  record["memory"] = {{"peak_rss_bytes", built.peakRssBytes},
-                      {"baseline_rss_bytes", built.baselineRssBytes}};
+  for (const auto& [component, bytes] : sizes) record.sizeComponents[component] = bytes;
+  record.sizeBytes = totalBytes(sizes);
+  RecordTimes times{built.totalSeconds, built.depthSeconds, {}};
+  for (const auto& [phase, seconds] : built.phaseSeconds) times.phases[phase] = seconds;
+  record.time = std::move(times);
+  record.depthResolution = built.map.depthResolution;
+  record.depth =
+      RecordDepth{built.texels, double(built.texels) / std::max(built.depthSeconds, 1e-9) * 1e-6,
+                  built.closedFallbacks, std::string(toString(source.method()))};
+  record.counters = {built.counters.begin(), built.counters.end()};
+  record.memory = RecordMemory{built.peakRssBytes, built.baselineRssBytes};
 
   if (options.saveStructureTo)
     saveStructure(*options.saveStructureTo,
@@ -126,21 +116,25 @@ nlohmann::json runCell(const CellSpec& cell, const Scene& scene, const CellOptio
         verify(*built.decoder, scheme.kind, built.map, source, options.verifyOptions,
                [&](uint64_t done) { checking.set(done); });
     checking.finish();
-    record["verification"] = report.toJson();
+    record.verification = RecordVerification{report.method, report.queries, report.mismatches,
+                                             report.toJson().at("examples")};
   }
 
   if (options.benchLookups) {
-    nlohmann::json timings = nlohmann::json::array();
+    record.lookup.emplace();
     const QuerySet sets[] = {standardUniformQueries(), standardViewQueries(scene, source)};
     for (const QuerySet& set : sets)
-      for (int k : options.filters) timings.push_back(timeLookups(*built.decoder, set, k).toJson());
-    record["lookup"] = timings;
+      for (int k : options.filters) {
+        const LookupTiming t = timeLookups(*built.decoder, set, k);
+        record.lookup->push_back({t.querySet, t.filter, t.queries, t.nsPerQuerySingleThread,
+                                  t.mqueriesPerSecondAllThreads, uint64_t(t.threads)});
+      }
   }
 
-  record["machine"] = machineInfo();
-  record["commit"] = sourceCommit(SHADOWBENCH_SOURCE_DIR);
-  record["created"] = utcNow();
-  record["complete"] = true;
+  record.machine = machineInfo();
+  record.commit = sourceCommit(SHADOWBENCH_SOURCE_DIR);
+  record.created = utcNow();
+  record.complete = true;
   return record;
 }
 

@@ -11,6 +11,7 @@
 
 #include "harness/build.h"
 #include "harness/query_sets.h"
+#include "harness/record_type.h"
 #include "harness/verify.h"
 #include "scenes/scene.h"
 
@@ -34,13 +35,14 @@ struct CellOptions {
   std::optional<std::filesystem::path> saveStructureTo;
 };
 
-// The record's identifying fields (scene, light, mode, scheme, params, resolution): enough for
-// cellKey() to name the cell before it is built, so a sweep can skip finished cells.
-nlohmann::json cellIdentity(const CellSpec& cell, const Scene& scene);
+// The record's identifying fields (scene, light, mode, scheme, params, resolution, tile size),
+// not yet complete: enough for cellKey() to name the cell before it is built and for a sweep to
+// tell whether a record answers it. Throws on an unknown scheme, a bad parameter or light index.
+Record cellIdentity(const CellSpec& cell, const Scene& scene);
 
 // Builds the cell and returns its complete record (DESIGN §6). Throws on bad input; a wrong
 // answer is not an exception but a record with mismatches.
-nlohmann::json runCell(const CellSpec& cell, const Scene& scene, const CellOptions& options);
+Record runCell(const CellSpec& cell, const Scene& scene, const CellOptions& options);
 
 // Parses "4096", "4K", "4k", "256K" into texels per side.
 uint32_t parseResolution(std::string_view text);

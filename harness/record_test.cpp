@@ -1,4 +1,5 @@
-// Records (atomic writes, validity, cell keys, machine facts) and the progress display.
+// Records (the Record type, atomic writes, validity, cell keys, machine facts) and the progress
+// display.
 #include <stdlib.h>
 #include <unistd.h>
 
@@ -14,8 +15,11 @@
 
 #include <catch2/catch.hpp>
 
+#include "harness/cell_key.h"
+#include "harness/machine.h"
 #include "harness/progress.h"
 #include "harness/record.h"
+#include "harness/source_commit.h"
 #include "tests/support/scratch_dir.h"
 
 namespace fs = std::filesystem;
@@ -35,7 +39,8 @@ json sampleRecord() {
     "resolution": 4096, "depth_resolution": 0, "tile_size": 512,
     "size_bytes": {"total": 67108864, "components": {"depths": 67108864}},
     "time_s": {"total": 3.2, "depth": 2.9, "phases": {"encode": 0.3}},
-    "depth": {"texels": 16777216, "mtexels_per_s": 5.8, "closed_fallbacks": 12},
+    "depth": {"texels": 16777216, "mtexels_per_s": 5.8, "closed_fallbacks": 12,
+              "method": "rasterize"},
     "counters": {},
     "memory": {"peak_rss_bytes": 123, "baseline_rss_bytes": 45},
     "verification": {"method": "exhaustive", "queries": 123456, "mismatches": 0, "examples": []},
@@ -170,6 +175,88 @@ TEST_CASE("readRecord rejects garbage, incomplete and foreign records", "[record
   }));
 }
 
+TEST_CASE("a Record reads every field of a record and writes the same JSON back", "[record]") {
+  json written = sampleRecord();
+  written["many_lights"] = {{"lights", 3}};  // a field this version does not know is kept
+  const sb::Record record = written.get<sb::Record>();
+  CHECK(record.scene.hash == "0123456789abcdef");
+  CHECK(record.scheme.params == std::map<std::string, std::string>{{"chunk", "32"}});
+  CHECK(record.resolution == 4096);
+  CHECK(record.tileSize == 512);
+  CHECK(record.sizeBytes == 67108864);
+  REQUIRE(record.time.has_value());
+  CHECK(record.time->phases.at("encode") == 0.3);
+  REQUIRE(record.lookup.has_value());
+  CHECK(record.lookup->at(0).nsPerQuerySingleThread == 12.5);
+  CHECK(record.verification->queries == 123456);
+  CHECK(json(record) == written);
+}
+
+// Issue 11 A4: tables printed a negative size; impossible values must be refused, by name.
+TEST_CASE("a Record refuses impossible values and says which field", "[record]") {
+  const auto refusal = [](auto edit) -> std::string {
+    json record = sampleRecord();
+    edit(record);
+    try {
+      (void)record.get<sb::Record>();
+    } catch (const sb::RecordError& error) {
+      return error.what();
+    }
+    return "accepted";
+  };
+  const auto refused = [&](auto edit, const std::string& words) {
+    const std::string why = refusal(edit);
+    INFO(why);
+    return why.find(words) != std::string::npos;
+  };
+  CHECK(refused([](json& r) { r["size_bytes"]["total"] = -5; }, "size_bytes.total is -5"));
+  CHECK(refused([](json& r) { r["size_bytes"]["total"] = 1.5; }, "size_bytes.total is 1.5"));
+  CHECK(refused([](json& r) { r["size_bytes"]["total"] = "12"; }, "not a number"));
+  CHECK(refused([](json& r) { r["size_bytes"]["components"]["depths"] = -1; },
+                "size_bytes.components.depths is -1"));
+  CHECK(refused([](json& r) { r["resolution"] = 1000; }, "resolution is 1000"));
+  CHECK(refused([](json& r) { r["resolution"] = 4; }, "power of two"));
+  CHECK(refused([](json& r) { r["resolution"] = 0; }, "resolution is 0"));
+  CHECK(refused([](json& r) { r["resolution"] = -4096; }, "resolution is -4096"));
+  CHECK(refused([](json& r) { r["time_s"]["total"] = -1.0; }, "time_s.total is -1.0"));
+  CHECK(refused([](json& r) { r["time_s"]["phases"]["encode"] = -0.5; }, "time_s.phases.encode"));
+  CHECK(refused([](json& r) { r["lookup"][0]["ns_per_query_1t"] = -3.0; },
+                "lookup[0].ns_per_query_1t"));
+  CHECK(refused([](json& r) { r["lookup"][0]["filter"] = 4; }, "lookup[0].filter is 4"));
+  CHECK(refused([](json& r) { r["verification"]["mismatches"] = -2; },
+                "verification.mismatches is -2"));
+  CHECK(refused([](json& r) { r["mode"] = "closd"; }, "mode is 'closd'"));
+  CHECK(refused([](json& r) { r["scene"] = "city"; }, "scene is \"city\", not an object"));
+  CHECK(refused([](json& r) { r["scene"].erase("name"); }, "scene.name is missing"));
+  CHECK(refused([](json& r) { r["complete"] = false; }, "complete is false"));
+  CHECK(refused([](json& r) { r["format"] = "shadowbench-record/2"; }, "format is"));
+  // A size written as a float without fraction is still a whole number of bytes.
+  CHECK(refusal([](json& r) { r["size_bytes"]["total"] = 1024.0; }) == "accepted");
+}
+
+TEST_CASE("loadRecord names the file and why it is not a record", "[record]") {
+  ScratchDir dir("sb-record-test");
+  const fs::path path = dir.path() / "cell.json";
+  const auto why = [&](const std::string& text) -> std::string {
+    writeText(path, text);
+    try {
+      sb::loadRecord(path);
+    } catch (const sb::RecordError& error) {
+      return error.what();
+    }
+    return "accepted";
+  };
+  CHECK(why("") == "'" + path.string() + "' is empty");
+  CHECK(why("  \n") == "'" + path.string() + "' is empty");
+  CHECK(why(sampleRecord().dump().substr(0, 50)) ==
+        "'" + path.string() + "' is not JSON (cut short while written?)");
+  json negative = sampleRecord();
+  negative["size_bytes"]["total"] = -1;
+  CHECK(why(negative.dump()).rfind("'" + path.string() + "': size_bytes.total is -1", 0) == 0);
+  CHECK(why(sampleRecord().dump()) == "accepted");
+  CHECK_THROWS_AS(sb::loadRecord(dir.path() / "missing.json"), sb::RecordError);
+}
+
 TEST_CASE("readRecords finds complete records recursively, sorted, and counts the rest",
           "[record]") {
   ScratchDir dir("sb-record-test");
@@ -191,44 +278,98 @@ TEST_CASE("readRecords finds complete records recursively, sorted, and counts th
   REQUIRE(loaded.records.size() == 3);
   CHECK(loaded.paths ==
         std::vector<fs::path>{root / "a.json", root / "deep" / "er" / "b.json", root / "z.json"});
-  CHECK(loaded.records[0]["resolution"] == 512);
-  CHECK(loaded.records[1]["resolution"] == 2048);
-  CHECK(loaded.records[2]["resolution"] == 1024);
-  CHECK(loaded.skipped.size() == 3);
+  CHECK(loaded.records[0].resolution == 512);
+  CHECK(loaded.records[1].resolution == 2048);
+  CHECK(loaded.records[2].resolution == 1024);
+  REQUIRE(loaded.skipped.size() == 3);
+  CHECK(loaded.skipped[0].path == root / "deep" / "garbage.json");
+  CHECK(loaded.skipped[0].reason.find("not JSON") != std::string::npos);
+  CHECK(loaded.skipped[1].reason.find("complete is false") != std::string::npos);
+  CHECK(loaded.skipped[2].reason.find("not JSON") != std::string::npos);
+
+  // Records a sweep moved aside are not current records.
+  sb::writeJsonAtomically(root / "superseded" / "old.json", a);
+  CHECK(sb::readRecords(root).records.size() == 3);
 
   CHECK(sb::readRecords(dir.path() / "nothing-here").records.empty());
 }
 
-TEST_CASE("cellKey names the cell from its identity, stably", "[record]") {
-  json record = sampleRecord();
-  CHECK(sb::cellKey(record) == "city_0_closed_sm32_chunk-32_4096");
+TEST_CASE("readableCellKey names the cell from its request, stably", "[record]") {
+  sb::Record record = sampleRecord();
+  CHECK(sb::readableCellKey(record) == "city_0_closed_sm32_chunk-32_4096");
 
-  // The identity alone (as a sweep has it before building) gives the same key.
-  json identity;
-  identity["resolution"] = 4096;
-  identity["scheme"] = {{"params", {{"chunk", "32"}}}, {"name", "sm32"}};
-  identity["mode"] = "closed";
-  identity["light_index"] = 0;
-  identity["scene"] = {{"name", "city"}};
+  // The identity alone (as a sweep has it before building) gives the same keys.
+  sb::Record identity;
+  identity.scene = {"city", "city", 12345, "0123456789abcdef"};
+  identity.light = record.light;
+  identity.mode = "closed";
+  identity.scheme.name = "sm32";
+  identity.scheme.params = {{"chunk", "32"}};
+  identity.resolution = 4096;
+  identity.tileSize = 512;
+  CHECK(sb::readableCellKey(identity) == sb::readableCellKey(record));
   CHECK(sb::cellKey(identity) == sb::cellKey(record));
 
   // Parameters in name order whatever order they were given in; generator names stay readable.
-  record["scene"]["name"] = "city:size=24,seed=1";
-  record["light_index"] = 2;
-  record["scheme"] = {{"name", "mmh"}, {"params", {{"search", "1000"}, {"height", "3"}}}};
-  CHECK(sb::cellKey(record) == "city-size-24-seed-1_2_closed_mmh_height-3_search-1000_4096");
+  record.scene.name = "city:size=24,seed=1";
+  record.lightIndex = 2;
+  record.scheme.name = "mmh";
+  record.scheme.params = {{"search", "1000"}, {"height", "3"}};
+  CHECK(sb::readableCellKey(record) ==
+        "city-size-24-seed-1_2_closed_mmh_height-3_search-1000_4096");
+  const std::string key = sb::cellKey(record);
+  CHECK(key.rfind(sb::readableCellKey(record) + "_", 0) == 0);
+  CHECK(key.size() == sb::readableCellKey(record).size() + 9);
+  CHECK(key.find_first_not_of("0123456789abcdef", key.size() - 8) == std::string::npos);
 
   // Every key part matters.
   std::set<std::string> keys;
   for (const char* mode : {"open", "closed", "static"})
-    for (int resolution : {512, 1024})
+    for (uint32_t resolution : {512u, 1024u})
       for (const char* search : {"10", "100"}) {
-        record["mode"] = mode;
-        record["resolution"] = resolution;
-        record["scheme"]["params"]["search"] = search;
+        record.mode = mode;
+        record.resolution = resolution;
+        record.scheme.params["search"] = search;
         keys.insert(sb::cellKey(record));
       }
   CHECK(keys.size() == 12);
+}
+
+// Issue 11 A1: `a/model.stl` and `b/model.obj` shared one record, and an edited scene kept the
+// old one, because the key was the scene's name.
+TEST_CASE("requests that read alike have different keys; content is identity, not name",
+          "[record]") {
+  const sb::Record base = sampleRecord();
+  const auto keyWith = [&](auto edit) {
+    sb::Record record = base;
+    edit(record);
+    CHECK(sb::readableCellKey(record) == sb::readableCellKey(base));
+    return sb::cellKey(record);
+  };
+  // Another scene spec (a model of one stem in another folder) or tile size: another record.
+  std::set<std::string> keys{sb::cellKey(base)};
+  keys.insert(keyWith([](sb::Record& r) { r.scene.spec = "b/model.obj"; }));
+  keys.insert(keyWith([](sb::Record& r) { r.tileSize = 256; }));
+  CHECK(keys.size() == 3);
+
+  // An edited scene is the same request: its record replaces the old one at the same name, and
+  // the identity tells them apart.
+  sb::Record edited = base;
+  edited.scene.hash = "fedcba9876543210";
+  edited.light["direction"] = {0, 0, -1};
+  CHECK(sb::cellKey(edited) == sb::cellKey(base));
+  CHECK(sb::recordRequest(edited) == sb::recordRequest(base));
+  CHECK(sb::recordIdentity(edited) != sb::recordIdentity(base));
+  sb::Record newFormat = base;
+  newFormat.format = "shadowbench-record/2";
+  CHECK(sb::recordIdentity(newFormat) != sb::recordIdentity(base));
+
+  // Measurements are neither: a rebuilt record of the same content is the same cell.
+  sb::Record rebuilt = base;
+  rebuilt.sizeBytes = 1;
+  rebuilt.created = "2030-01-01T00:00:00Z";
+  rebuilt.commit = "other";
+  CHECK(sb::recordIdentity(rebuilt) == sb::recordIdentity(base));
 }
 
 TEST_CASE("cellKey is filesystem-safe and distinct for odd scene names", "[record]") {
@@ -253,8 +394,8 @@ TEST_CASE("cellKey is filesystem-safe and distinct for odd scene names", "[recor
                                           "ends."};
   std::set<std::string> keys;
   for (const std::string& name : names) {
-    json record = sampleRecord();
-    record["scene"]["name"] = name;
+    sb::Record record = sampleRecord();
+    record.scene.name = name;
     const std::string key = sb::cellKey(record);
     INFO("scene name '" << name << "' → key '" << key << "'");
     CHECK(isFileNameSafe(key));
@@ -262,18 +403,18 @@ TEST_CASE("cellKey is filesystem-safe and distinct for odd scene names", "[recor
     CHECK(key == sb::cellKey(record));
     keys.insert(key);
     // The key works as a file name here.
-    sb::writeJsonAtomically(dir.path() / (key + ".json"), record);
-    CHECK(sb::readRecord(dir.path() / (key + ".json")).has_value());
+    sb::writeRecord(dir.path() / (key + ".json"), record);
+    CHECK(sb::loadRecord(dir.path() / (key + ".json")).scene.name == name);
   }
   CHECK(keys.size() == names.size());
   CHECK(filesUnder(dir.path()).size() == names.size());
 
   // Long parameter lists are cut to a bounded key that still tells cells apart.
-  json record = sampleRecord();
+  sb::Record record = sampleRecord();
   for (int i = 0; i < 40; ++i)
-    record["scheme"]["params"][std::string("p").append(std::to_string(i))] = "value";
+    record.scheme.params[std::string("p").append(std::to_string(i))] = "value";
   const std::string longKey = sb::cellKey(record);
-  record["scheme"]["params"]["p39"] = "other";
+  record.scheme.params["p39"] = "other";
   CHECK(longKey.size() <= 200);
   CHECK(sb::cellKey(record).size() <= 200);
   CHECK(sb::cellKey(record) != longKey);

@@ -1,19 +1,17 @@
 #include "harness/table.h"
 
 #include <algorithm>
-#include <initializer_list>
 #include <map>
-#include <optional>
 #include <set>
 #include <tuple>
 
 #include <fmt/format.h>
 
-#include "harness/progress.h"
+#include "harness/cell_key.h"
 #include "harness/record.h"
+#include "harness/table_number.h"
 
 namespace fs = std::filesystem;
-using nlohmann::json;
 
 namespace sb {
 
@@ -22,36 +20,6 @@ namespace {
 const std::string kMissing = "–";
 constexpr double kMiB = 1 << 20;
 constexpr std::string_view kBaseline = "sm32";
-
-// --- reading optional record fields ---------------------------------------------------------
-
-const json* field(const json& record, std::initializer_list<const char*> path) {
-  const json* at = &record;
-  for (const char* key : path) {
-    if (!at->is_object()) return nullptr;
-    const auto it = at->find(key);
-    if (it == at->end()) return nullptr;
-    at = &*it;
-  }
-  return at;
-}
-
-std::optional<double> number(const json& record, std::initializer_list<const char*> path) {
-  const json* value = field(record, path);
-  if (!value || !value->is_number()) return std::nullopt;
-  return value->get<double>();
-}
-
-std::string text(const json& record, std::initializer_list<const char*> path) {
-  const json* value = field(record, path);
-  return value && value->is_string() ? value->get<std::string>() : std::string();
-}
-
-uint64_t lightIndex(const json& record) {
-  const json* value = field(record, {"light_index"});
-  return value && value->is_number_integer() && value->get<int64_t>() >= 0 ? value->get<uint64_t>()
-                                                                           : 0;
-}
 
 // --- ordering -------------------------------------------------------------------------------
 
@@ -97,13 +65,47 @@ struct Variant {
   }
 };
 
-Variant variantOf(const json& record) {
-  Variant variant{text(record, {"scheme", "name"}), {}};
-  if (const json* params = field(record, {"scheme", "params"}); params && params->is_object())
-    for (const auto& [name, value] : params->items())
-      variant.params += fmt::format("{}{}={}", variant.params.empty() ? "" : ", ", name,
-                                    value.is_string() ? value.get<std::string>() : value.dump());
+Variant variantOf(const Record& record) {
+  Variant variant{record.scheme.name, {}};
+  for (const auto& [name, value] : record.scheme.params)
+    variant.params += fmt::format("{}{}={}", variant.params.empty() ? "" : ", ", name, value);
   return variant;
+}
+
+// --- choosing one record per table cell ---------------------------------------------------------
+
+// What one number of the tables stands for: a table (scene, light, mode) and a cell in it.
+using TableCell = std::tuple<std::string, uint64_t, std::string, Variant, uint64_t>;
+
+TableCell tableCellOf(const Record& r) {
+  return {r.scene.name, r.lightIndex, r.mode, variantOf(r), r.resolution};
+}
+
+// The records the tables show: of several records of one table cell the newest ("created"); of
+// equal times the later one. `duplicate(used, unused, why)` hears of each record left out.
+template <typename Duplicate>
+std::vector<const Record*> recordsShown(const std::vector<Record>& records, Duplicate duplicate) {
+  std::map<TableCell, std::vector<size_t>> byCell;
+  for (size_t i = 0; i < records.size(); ++i) byCell[tableCellOf(records[i])].push_back(i);
+  std::vector<const Record*> shown;
+  for (const auto& [cell, indices] : byCell) {
+    size_t used = indices.front();
+    for (size_t i : indices)
+      if (records[used].created <= records[i].created) used = i;
+    shown.push_back(&records[used]);
+    for (size_t i : indices)
+      if (i != used)
+        duplicate(used, i,
+                  records[i].created == records[used].created
+                      ? fmt::format("both created {}; the later file is used",
+                                    records[used].created.empty() ? "at an unknown time"
+                                                                  : records[used].created)
+                      : fmt::format(
+                            "created {}, the used one {}",
+                            records[i].created.empty() ? "at an unknown time" : records[i].created,
+                            records[used].created));
+  }
+  return shown;
 }
 
 // --- grouping -------------------------------------------------------------------------------
@@ -115,8 +117,7 @@ struct Group {
   std::string scene;
   uint64_t light = 0;
   std::string mode;
-  std::set<std::string> specs;  // how the records named the scene on the command line
-  std::map<Cell, const json*> newest;
+  std::map<Cell, const Record*> records;
   std::set<Variant> variants;
   std::set<uint64_t> resolutions;
 
@@ -124,45 +125,35 @@ struct Group {
   std::string slug(std::string_view kind) const {
     return fmt::format("{}_{}_{}_{}", kind, fileNamePart(scene), light, fileNamePart(mode));
   }
-  const json* at(const Variant& v, uint64_t r) const {
-    const auto it = newest.find({v, r});
-    return it == newest.end() ? nullptr : it->second;
+  const Record* at(const Variant& v, uint64_t r) const {
+    const auto it = records.find({v, r});
+    return it == records.end() ? nullptr : it->second;
   }
 };
 
-std::vector<Group> groupRecords(const std::vector<json>& records) {
+std::vector<Group> groupRecords(const std::vector<const Record*>& records) {
   std::map<std::tuple<std::string, uint64_t, std::string>, Group> groups;
-  for (const json& record : records) {
-    if (!isCompleteRecord(record)) continue;  // the tables read the required fields unchecked
-    const std::string scene = text(record, {"scene", "name"}), mode = text(record, {"mode"});
-    Group& group = groups[{scene, lightIndex(record), mode}];
-    group.scene = scene, group.light = lightIndex(record), group.mode = mode;
-    if (const std::string spec = text(record, {"scene", "spec"}); !spec.empty())
-      group.specs.insert(spec);
-    const Variant variant = variantOf(record);
-    const uint64_t resolution = record["resolution"].get<uint64_t>();
+  for (const Record* record : records) {
+    Group& group = groups[{record->scene.name, record->lightIndex, record->mode}];
+    group.scene = record->scene.name, group.light = record->lightIndex, group.mode = record->mode;
+    const Variant variant = variantOf(*record);
     group.variants.insert(variant);
-    group.resolutions.insert(resolution);
-    // A re-run replaces an older record of its cell; of equal times the later path wins.
-    const json*& kept = group.newest[{variant, resolution}];
-    if (!kept || text(*kept, {"created"}) <= text(record, {"created"})) kept = &record;
+    group.resolutions.insert(record->resolution);
+    group.records[{variant, record->resolution}] = record;
   }
   std::vector<Group> ordered;
   for (auto& [key, group] : groups) ordered.push_back(std::move(group));
   return ordered;
 }
 
-bool figureMatches(const PaperFigure& figure, const Group& group) {
-  if (figure.mode != group.mode) return false;
-  const std::string generator = group.scene.substr(0, group.scene.find(':'));
-  return figure.scene == group.scene || figure.scene == generator ||
-         group.specs.count(figure.scene);
-}
-
 // --- cells ----------------------------------------------------------------------------------
 
+std::string significant(double value) {
+  return formatTableNumber(value, NumberKind::Significant);
+}
+
 std::string mib(double bytes) {
-  return formatSignificant(bytes / kMiB);
+  return significant(bytes / kMiB);
 }
 
 double shadowMap16Bytes(uint64_t resolution) {
@@ -170,31 +161,23 @@ double shadowMap16Bytes(uint64_t resolution) {
 }
 
 std::string percentOf16Bit(double bytes, uint64_t resolution) {
-  return formatSignificant(100 * bytes / shadowMap16Bytes(resolution));
+  return significant(100 * bytes / shadowMap16Bytes(resolution));
 }
 
-// "12.3M": a count with an SI prefix and no unit.
-std::string count(double value) {
-  std::string text = formatSi(value, "");
-  text.erase(std::remove(text.begin(), text.end(), ' '), text.end());
-  return text;
+std::string buildTimeCell(const Record& record) {
+  if (!record.time) return kMissing;
+  return record.depth ? fmt::format("{} ({})", significant(record.time->total),
+                                    significant(record.depth->mtexelsPerSecond))
+                      : significant(record.time->total);
 }
 
-std::string buildTimeCell(const json& record) {
-  const auto seconds = number(record, {"time_s", "total"});
-  if (!seconds) return kMissing;
-  const auto rate = number(record, {"depth", "mtexels_per_s"});
-  return rate ? fmt::format("{} ({})", formatSignificant(*seconds), formatSignificant(*rate))
-              : formatSignificant(*seconds);
-}
-
-std::string verificationCell(const json& record) {
-  const auto queries = number(record, {"verification", "queries"});
-  const auto mismatches = number(record, {"verification", "mismatches"});
-  if (!queries || !mismatches) return kMissing;
-  std::string cell = fmt::format("{} / {:.0f}", count(*queries), *mismatches);
-  if (text(record, {"verification", "method"}) == "sampled") cell += " (sampled)";
-  if (*mismatches > 0) cell += " FAIL";
+std::string verificationCell(const Record& record) {
+  if (!record.verification) return kMissing;
+  const RecordVerification& v = *record.verification;
+  std::string cell = fmt::format("{} / {}", formatTableNumber(double(v.queries), NumberKind::Count),
+                                 formatTableNumber(double(v.mismatches), NumberKind::Integer));
+  if (v.method == "sampled") cell += " (sampled)";
+  if (v.mismatches > 0) cell += " FAIL";
   return cell;
 }
 
@@ -212,31 +195,15 @@ template <typename CellText>
 std::vector<std::string> variantRow(const Group& group, const Variant& variant, CellText cellText) {
   std::vector<std::string> row{variant.label()};
   for (uint64_t r : group.resolutions) {
-    const json* record = group.at(variant, r);
+    const Record* record = group.at(variant, r);
     row.push_back(record ? cellText(*record, r) : kMissing);
   }
   return row;
 }
 
-// Paper figures of one label as a row over the group's resolutions.
-template <typename CellText>
-std::vector<std::string> paperRow(const Group& group, const std::string& label,
-                                  const std::vector<const PaperFigure*>& figures,
-                                  CellText cellText) {
-  std::vector<std::string> row{label};
-  for (uint64_t r : group.resolutions) {
-    const auto it = std::find_if(figures.begin(), figures.end(), [&](const PaperFigure* f) {
-      return f->label == label && f->resolution == r;
-    });
-    row.push_back(it == figures.end() ? kMissing : cellText((*it)->bytes, r));
-  }
-  return row;
-}
-
-// The two size tables: our variants, each followed by the paper's rows for its scheme, then
-// the analytic uncompressed shadow maps every scheme is measured against.
-std::pair<Table, Table> sizeTables(const Group& group,
-                                   const std::vector<const PaperFigure*>& figures) {
+// The two size tables: our variants, then the analytic uncompressed shadow maps every scheme is
+// measured against.
+std::pair<Table, Table> sizeTables(const Group& group) {
   Table mibTable{
       "Size — " + group.describe(),
       "MiB (2^20 bytes), 3 significant digits; analytic rows: an uncompressed map of R² texels at "
@@ -250,30 +217,12 @@ std::pair<Table, Table> sizeTables(const Group& group,
                      {},
                      group.slug("size-percent")};
 
-  std::set<std::string, decltype(&schemeNameLess)> schemes(&schemeNameLess);
-  for (const Variant& v : group.variants) schemes.insert(v.scheme);
-  for (const PaperFigure* f : figures) schemes.insert(f->scheme);
-
-  const auto bytesOf = [](const json& record) {
-    return record["size_bytes"]["total"].get<double>();
-  };
-  for (const std::string& scheme : schemes) {
-    for (const Variant& v : group.variants) {
-      if (v.scheme != scheme) continue;
-      mibTable.rows.push_back(
-          variantRow(group, v, [&](const json& rec, uint64_t) { return mib(bytesOf(rec)); }));
-      percentTable.rows.push_back(variantRow(
-          group, v, [&](const json& rec, uint64_t r) { return percentOf16Bit(bytesOf(rec), r); }));
-    }
-    std::vector<std::string> labels;  // in the order given, each once
-    for (const PaperFigure* f : figures)
-      if (f->scheme == scheme && std::find(labels.begin(), labels.end(), f->label) == labels.end())
-        labels.push_back(f->label);
-    for (const std::string& label : labels) {
-      mibTable.rows.push_back(
-          paperRow(group, label, figures, [](double bytes, uint64_t) { return mib(bytes); }));
-      percentTable.rows.push_back(paperRow(group, label, figures, percentOf16Bit));
-    }
+  for (const Variant& v : group.variants) {
+    mibTable.rows.push_back(variantRow(
+        group, v, [](const Record& rec, uint64_t) { return mib(double(rec.sizeBytes)); }));
+    percentTable.rows.push_back(variantRow(group, v, [](const Record& rec, uint64_t r) {
+      return percentOf16Bit(double(rec.sizeBytes), r);
+    }));
   }
 
   for (int bytesPerTexel : {2, 4}) {
@@ -292,7 +241,7 @@ std::pair<Table, Table> sizeTables(const Group& group,
 
 // A table of one cell per variant and resolution, read from each record by `cell`.
 Table perResolutionTable(const Group& group, const std::string& title, std::string unitNote,
-                         std::string_view slugName, std::string (*cell)(const json&)) {
+                         std::string_view slugName, std::string (*cell)(const Record&)) {
   Table table{title + " — " + group.describe(),
               std::move(unitNote),
               resolutionHeader("scheme", group.resolutions),
@@ -300,7 +249,7 @@ Table perResolutionTable(const Group& group, const std::string& title, std::stri
               group.slug(slugName)};
   for (const Variant& v : group.variants)
     table.rows.push_back(
-        variantRow(group, v, [cell](const json& rec, uint64_t) { return cell(rec); }));
+        variantRow(group, v, [cell](const Record& rec, uint64_t) { return cell(rec); }));
   return table;
 }
 
@@ -320,28 +269,24 @@ Table verificationTable(const Group& group) {
       "verification", verificationCell);
 }
 
-// The timings of one (query set, filter size) in a record's "lookup" list.
-const json* lookupTiming(const json& record, const std::string& querySet, int64_t filter) {
-  const json* timings = field(record, {"lookup"});
-  if (!timings || !timings->is_array()) return nullptr;
-  for (const json& t : *timings)
-    if (text(t, {"query_set"}) == querySet && field(t, {"filter"}) && t["filter"] == filter)
-      return &t;
+// The timings of one (query set, filter size) in a record's lookups.
+const RecordLookup* lookupTiming(const Record& record, const std::string& querySet, int filter) {
+  if (!record.lookup) return nullptr;
+  for (const RecordLookup& t : *record.lookup)
+    if (t.querySet == querySet && t.filter == filter) return &t;
   return nullptr;
 }
 
 // Two tables — one-thread latency and all-thread throughput — with a row per variant and
 // resolution and a column per (query set, filter size). None when no record has timings.
 std::vector<Table> lookupTables(const Group& group) {
-  std::set<std::pair<std::string, int64_t>> columns;
-  std::set<int64_t> threadCounts;
-  for (const auto& [cell, record] : group.newest)
-    if (const json* timings = field(*record, {"lookup"}); timings && timings->is_array())
-      for (const json& t : *timings) {
-        const json* filter = field(t, {"filter"});
-        if (text(t, {"query_set"}).empty() || !filter || !filter->is_number_integer()) continue;
-        columns.insert({text(t, {"query_set"}), filter->get<int64_t>()});
-        if (const auto threads = number(t, {"threads"})) threadCounts.insert(int64_t(*threads));
+  std::set<std::pair<std::string, int>> columns;
+  std::set<uint64_t> threadCounts;
+  for (const auto& [cell, record] : group.records)
+    if (record->lookup)
+      for (const RecordLookup& t : *record->lookup) {
+        columns.insert({t.querySet, t.filter});
+        threadCounts.insert(t.threads);
       }
   if (columns.empty()) return {};
 
@@ -362,15 +307,13 @@ std::vector<Table> lookupTables(const Group& group) {
       group.slug("lookup-mqps")};
   for (const Variant& v : group.variants)
     for (uint64_t r : group.resolutions) {
-      const json* record = group.at(v, r);
+      const Record* record = group.at(v, r);
       if (!record) continue;
       std::vector<std::string> ns{v.label(), resolutionHeading(r)}, mqps = ns;
       for (const auto& [set, k] : columns) {
-        const json* t = lookupTiming(*record, set, k);
-        const auto nsPerQuery = t ? number(*t, {"ns_per_query_1t"}) : std::nullopt;
-        const auto mqueries = t ? number(*t, {"mqueries_per_s_all"}) : std::nullopt;
-        ns.push_back(nsPerQuery ? formatSignificant(*nsPerQuery) : kMissing);
-        mqps.push_back(mqueries ? formatSignificant(*mqueries) : kMissing);
+        const RecordLookup* t = lookupTiming(*record, set, k);
+        ns.push_back(t ? significant(t->nsPerQuerySingleThread) : kMissing);
+        mqps.push_back(t ? significant(t->mqueriesPerSecondAllThreads) : kMissing);
       }
       latency.rows.push_back(std::move(ns));
       throughput.rows.push_back(std::move(mqps));
@@ -378,9 +321,25 @@ std::vector<Table> lookupTables(const Group& group) {
   return {std::move(latency), std::move(throughput)};
 }
 
-bool anyRecordHas(const Group& group, const char* key) {
-  return std::any_of(group.newest.begin(), group.newest.end(),
-                     [&](const auto& cell) { return field(*cell.second, {key}) != nullptr; });
+template <typename Has>
+bool anyRecordHas(const Group& group, Has has) {
+  return std::any_of(group.records.begin(), group.records.end(),
+                     [&](const auto& cell) { return has(*cell.second); });
+}
+
+std::vector<Table> tablesOf(const std::vector<const Record*>& shown) {
+  std::vector<Table> tables;
+  for (const Group& group : groupRecords(shown)) {
+    auto [sizeMiB, sizePercent] = sizeTables(group);
+    tables.push_back(std::move(sizeMiB));
+    tables.push_back(std::move(sizePercent));
+    if (anyRecordHas(group, [](const Record& r) { return r.time.has_value(); }))
+      tables.push_back(buildTimeTable(group));
+    if (anyRecordHas(group, [](const Record& r) { return r.verification.has_value(); }))
+      tables.push_back(verificationTable(group));
+    for (Table& t : lookupTables(group)) tables.push_back(std::move(t));
+  }
+  return tables;
 }
 
 // --- output ---------------------------------------------------------------------------------
@@ -421,24 +380,34 @@ std::string resolutionHeading(uint64_t resolution) {
                                                       : fmt::format("{}²", resolution);
 }
 
-std::vector<Table> makeTables(const std::vector<json>& records,
-                              std::span<const PaperFigure> paperFigures) {
-  std::vector<Table> tables;
-  for (Group& group : groupRecords(records)) {
-    std::vector<const PaperFigure*> figures;
-    for (const PaperFigure& f : paperFigures)
-      if (f.resolution > 0 && figureMatches(f, group)) {
-        figures.push_back(&f);
-        group.resolutions.insert(f.resolution);  // the paper's sizes beside ours, even unbuilt
-      }
-    auto [sizeMiB, sizePercent] = sizeTables(group, figures);
-    tables.push_back(std::move(sizeMiB));
-    tables.push_back(std::move(sizePercent));
-    if (anyRecordHas(group, "time_s")) tables.push_back(buildTimeTable(group));
-    if (anyRecordHas(group, "verification")) tables.push_back(verificationTable(group));
-    for (Table& t : lookupTables(group)) tables.push_back(std::move(t));
-  }
-  return tables;
+std::vector<Table> makeTables(const std::vector<Record>& records) {
+  return tablesOf(recordsShown(records, [](size_t, size_t, const std::string&) {}));
+}
+
+FolderTables tablesOfFolder(const fs::path& recordsDir) {
+  const LoadedRecords loaded = readRecords(recordsDir);
+  FolderTables result;
+  for (const SkippedRecord& skipped : loaded.skipped)
+    result.problems.push_back(fmt::format("skipped {}", skipped.reason));
+  const auto shown =
+      recordsShown(loaded.records, [&](size_t used, size_t unused, const std::string& why) {
+        result.problems.push_back(fmt::format(
+            "'{}' and '{}' are records of one table cell ({}, light {}, {}, {}, {}): the first is "
+            "not used ({})",
+            loaded.paths[unused].string(), loaded.paths[used].string(),
+            loaded.records[used].scene.name, loaded.records[used].lightIndex,
+            loaded.records[used].mode, variantOf(loaded.records[used]).label(),
+            resolutionHeading(loaded.records[used].resolution), why));
+        const std::string &usedSpec = loaded.records[used].scene.spec,
+                          &unusedSpec = loaded.records[unused].scene.spec;
+        if (usedSpec != unusedSpec)
+          result.problems.back() += fmt::format(
+              "; they come from the scene specs '{}' and '{}', whose scenes have one name",
+              unusedSpec, usedSpec);
+      });
+  result.records = shown.size();
+  result.tables = tablesOf(shown);
+  return result;
 }
 
 std::string toMarkdown(const std::vector<Table>& tables) {

@@ -4,11 +4,10 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <span>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include "harness/record_type.h"
 
 namespace sb {
 
@@ -21,25 +20,21 @@ struct Table {
   std::string slug;  // file name of the CSV without ".csv"; from the title when empty
 };
 
-// A size published in a paper, shown as its own row beside ours in the matching size table:
-// the tables of (scene, mode) whose scene name, spec, or generator (the name before ':') is
-// `scene`, at any light. The row sits after our rows of `scheme` and is labelled `label`.
-struct PaperFigure {
-  std::string label;  // e.g. "Sintorn 2014 Fig. 9 (paper)"
-  std::string scene;
-  std::string mode;
-  std::string scheme;
-  uint32_t resolution = 0;
-  double bytes = 0;
-};
-
 // For each (scene, light index, mode) of the records, in that order: size in MiB, size as % of a
 // 16-bit shadow map, build time, and — where any record has them — verification and lookup
 // tables. Schemes are rows (sm32, the baseline, first; then by name and parameters); resolutions
-// are columns in numeric order. Of several records of one cell the newest ("created") counts.
-// `records` must be complete records (isCompleteRecord); optional fields may be absent.
-std::vector<Table> makeTables(const std::vector<nlohmann::json>& records,
-                              std::span<const PaperFigure> paperFigures = {});
+// are columns in numeric order. Of several records of one table cell the newest ("created")
+// counts; of equal times the later one in `records`.
+std::vector<Table> makeTables(const std::vector<Record>& records);
+
+// The tables of the records under a folder, and one line for each file left out of them: not a
+// record (and why), or another record of the same table cell that was not used (and why not).
+struct FolderTables {
+  std::vector<Table> tables;
+  size_t records = 0;  // the records the tables were made from
+  std::vector<std::string> problems;
+};
+FolderTables tablesOfFolder(const std::filesystem::path& recordsDir);
 
 std::string toMarkdown(const std::vector<Table>& tables);
 std::string toCsv(const Table& table);  // RFC 4180: CRLF line ends, fields quoted where needed

@@ -1,18 +1,22 @@
 // Tables regenerated from synthetic records: ordering, analytic rows, duplicates, missing cells,
-// paper rows, and the Markdown / CSV output.
+// records left out and why, the number formats, and the Markdown / CSV output.
 #include <stdlib.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <catch2/catch.hpp>
 
+#include "harness/cell_key.h"
 #include "harness/record.h"
 #include "harness/table.h"
+#include "harness/table_number.h"
+#include "tests/support/scratch_dir.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -33,6 +37,13 @@ json record(const std::string& scheme, uint64_t resolution, double bytes,
           {"resolution", resolution},
           {"size_bytes", {{"total", bytes}}},
           {"created", created}};
+}
+
+// The records the tables read, from their JSON form.
+std::vector<sb::Table> tablesOf(const std::vector<json>& records) {
+  std::vector<sb::Record> typed;
+  for (const json& r : records) typed.push_back(r.get<sb::Record>());
+  return sb::makeTables(typed);
 }
 
 const sb::Table& tableTitled(const std::vector<sb::Table>& tables, const std::string& prefix) {
@@ -80,7 +91,7 @@ TEST_CASE("the analytic shadow-map rows are R²·2 and R²·4 bytes in MiB, exac
   std::vector<json> records;
   for (uint64_t r : {256u, 512u, 4096u, 65536u, 262144u})
     records.push_back(record("sm32", r, double(r * r * 4)));
-  const auto tables = sb::makeTables(records);
+  const auto tables = tablesOf(records);
   checkRectangular(tables);
   const sb::Table& size = tableTitled(tables, "Size — ");
   const sb::Table& percent = tableTitled(tables, "Size relative");
@@ -108,7 +119,7 @@ TEST_CASE("resolutions are columns in numeric order, sm32 is the first row", "[t
   records.push_back(record("mmh", 1024, 500, {{"search", "1000"}}));
   records.push_back(record("mmh", 1024, 500, {{"search", "200"}}));
   for (json& r : records) r["time_s"] = {{"total", 1.0}};
-  const auto tables = sb::makeTables(records);
+  const auto tables = tablesOf(records);
   checkRectangular(tables);
   const sb::Table& size = tableTitled(tables, "Size — ");
   CHECK(size.header == std::vector<std::string>{"scheme", "512²", "1K²", "2K²", "4K²", "256K²"});
@@ -123,7 +134,7 @@ TEST_CASE("the newest record of a cell wins, whatever the input order", "[table]
   const json older = record("sm32", 1024, 100 * kMiB, json::object(), "2026-01-01T00:00:00Z");
   const json newer = record("sm32", 1024, 50 * kMiB, json::object(), "2026-02-01T00:00:00Z");
   for (const auto& records : {std::vector<json>{older, newer}, std::vector<json>{newer, older}}) {
-    const auto tables = sb::makeTables(records);
+    const auto tables = tablesOf(records);
     const sb::Table& size = tableTitled(tables, "Size — ");
     CHECK(cell(size, "sm32", "1K²") == "50.0");
     CHECK(std::count(size.rows.begin(), size.rows.end(), rowLabelled(size, "sm32")) == 1);
@@ -137,7 +148,7 @@ TEST_CASE("cells without a record, or without the measurement, show –", "[tabl
   a["verification"] = {{"method", "exhaustive"}, {"queries", 12'345'678}, {"mismatches", 0}};
   json b = record("bbb", 1024, 2 * kMiB);
   b["verification"] = {{"method", "sampled"}, {"queries", 10'000'000}, {"mismatches", 5}};
-  const auto tables = sb::makeTables({a, b});
+  const auto tables = tablesOf({a, b});
   checkRectangular(tables);
 
   const sb::Table& size = tableTitled(tables, "Size — ");
@@ -157,7 +168,7 @@ TEST_CASE("cells without a record, or without the measurement, show –", "[tabl
   CHECK(cell(verification, "bbb", "512²") == "–");
 
   CHECK_FALSE(hasTableTitled(tables, "Lookup"));
-  CHECK_FALSE(hasTableTitled(sb::makeTables({record("aaa", 512, 1)}), "Verification"));
+  CHECK_FALSE(hasTableTitled(tablesOf({record("aaa", 512, 1)}), "Verification"));
 }
 
 TEST_CASE("lookup tables have a row per scheme and resolution, a column per query set and filter",
@@ -184,7 +195,7 @@ TEST_CASE("lookup tables have a row per scheme and resolution, a column per quer
                   {"mqueries_per_s_all", 150.0},
                   {"threads", 2}}};
   json b = record("mmh", 4096, 1);  // not timed
-  const auto tables = sb::makeTables({a, b});
+  const auto tables = tablesOf({a, b});
   checkRectangular(tables);
   const sb::Table& ns = tableTitled(tables, "Lookup time, one thread");
   const sb::Table& mqps = tableTitled(tables, "Lookup throughput");
@@ -203,7 +214,7 @@ TEST_CASE("each scene, light and mode gets its own tables", "[table]") {
   open["mode"] = "open";
   light1["light_index"] = 1;
   terrain["scene"]["name"] = "terrain:size=8,seed=1";
-  const auto tables = sb::makeTables({record("sm32", 512, 1), open, light1, terrain});
+  const auto tables = tablesOf({record("sm32", 512, 1), open, light1, terrain});
   std::vector<std::string> sizeTitles, slugs;
   for (const sb::Table& t : tables) {
     if (t.title.rfind("Size — ", 0) == 0) sizeTitles.push_back(t.title);
@@ -217,31 +228,6 @@ TEST_CASE("each scene, light and mode gets its own tables", "[table]") {
   CHECK(std::adjacent_find(slugs.begin(), slugs.end()) == slugs.end());
   CHECK(std::find(slugs.begin(), slugs.end(), "size-mib_city-size-24-seed-1_0_closed") !=
         slugs.end());
-}
-
-TEST_CASE("paper figures appear as labelled rows beside the scheme they report", "[table]") {
-  std::vector<json> records = {record("sm32", 4096, 64 * kMiB), record("mmh", 4096, 2 * kMiB),
-                               record("zzz", 4096, kMiB)};
-  for (json& r : records) r["time_s"] = {{"total", 1.0}};
-  const std::vector<sb::PaperFigure> paper = {
-      {"Sintorn 2014 Fig. 9 (paper)", "city", "closed", "mmh", 4096, 3 * kMiB},
-      {"Sintorn 2014 Fig. 9 (paper)", "city", "closed", "mmh", 262144, 512 * kMiB},
-      {"Kämpe 2013 Table 1 (paper)", "city", "open", "dag", 4096, kMiB},  // another mode
-      {"Elsewhere (paper)", "hairball", "closed", "mmh", 4096, kMiB}};    // another scene
-  const auto tables = sb::makeTables(records, paper);
-  checkRectangular(tables);
-  const sb::Table& size = tableTitled(tables, "Size — ");
-  CHECK(rowLabels(size) == std::vector<std::string>{"sm32", "mmh", "Sintorn 2014 Fig. 9 (paper)",
-                                                    "zzz", "16-bit shadow map (analytic)",
-                                                    "32-bit shadow map (analytic)"});
-  CHECK(size.header == std::vector<std::string>{"scheme", "4K²", "256K²"});
-  CHECK(cell(size, "Sintorn 2014 Fig. 9 (paper)", "4K²") == "3.00");
-  CHECK(cell(size, "Sintorn 2014 Fig. 9 (paper)", "256K²") == "512");
-  CHECK(cell(size, "mmh", "256K²") == "–");
-  CHECK(cell(tableTitled(tables, "Size relative"), "Sintorn 2014 Fig. 9 (paper)", "4K²") == "9.38");
-  // Paper rows are sizes only.
-  CHECK(rowLabels(tableTitled(tables, "Build time")) ==
-        std::vector<std::string>{"sm32", "mmh", "zzz"});
 }
 
 TEST_CASE("CSV follows RFC 4180 and Markdown escapes pipes", "[table]") {
@@ -271,7 +257,7 @@ TEST_CASE("writeTables writes tables.md and one CSV per table, named by slug", "
   const fs::path dir = fs::path(pattern) / "tables";
   json a = record("sm32", 512, 1);
   a["time_s"] = {{"total", 1.0}};
-  auto tables = sb::makeTables({a});
+  auto tables = tablesOf({a});
   tables.push_back({"Odd / title", "", {"x"}, {{"1"}}, ""});
   tables.push_back({"Odd / title", "", {"x"}, {{"2"}}, ""});  // the same slug twice
   sb::writeTables(tables, dir);
@@ -292,4 +278,111 @@ TEST_CASE("writeTables writes tables.md and one CSV per table, named by slug", "
   csv << in.rdbuf();
   CHECK(csv.str() == sb::toCsv(tables.at(0)));
   fs::remove_all(pattern);
+}
+
+// Issue 11 A4: `table` skipped half-written, empty and nonsense records without a word, let the
+// last of duplicate records win silently, and printed a negative size.
+TEST_CASE("tablesOfFolder names every record it leaves out and why", "[table]") {
+  sb::testing::ScratchDir dir("sb-table-test");
+  const auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir.path() / name, std::ios::binary) << text;
+  };
+  json good = record("sm32", 512, kMiB, json::object(), "2026-02-01T00:00:00Z");
+  json older = record("sm32", 512, 2 * kMiB, json::object(), "2026-01-01T00:00:00Z");
+  json negative = record("mmh", 512, -1);
+  json oddResolution = record("mmh", 1000, kMiB);
+  json negativeTime = record("mmh", 1024, kMiB);
+  negativeTime["time_s"] = {{"total", -2.0}};
+  json incomplete = record("mmh", 2048, kMiB);
+  incomplete["complete"] = false;
+  write("good.json", good.dump());
+  write("older.json", older.dump());
+  write("empty.json", "");
+  write("half.json", good.dump().substr(0, 40));
+  write("negative.json", negative.dump());
+  write("odd-resolution.json", oddResolution.dump());
+  write("negative-time.json", negativeTime.dump());
+  write("incomplete.json", incomplete.dump());
+  write("list.json", "[1, 2]");
+
+  const sb::FolderTables found = sb::tablesOfFolder(dir.path());
+  CHECK(found.records == 1);
+  const auto said = [&](const std::string& file, const std::string& words) {
+    for (const std::string& problem : found.problems)
+      if (problem.find((dir.path() / file).string()) != std::string::npos &&
+          problem.find(words) != std::string::npos)
+        return true;
+    return false;
+  };
+  for (const std::string& problem : found.problems) UNSCOPED_INFO(problem);
+  CHECK(found.problems.size() == 8);
+  CHECK(said("empty.json", "is empty"));
+  CHECK(said("half.json", "is not JSON"));
+  CHECK(said("negative.json", "size_bytes.total is -1"));
+  CHECK(said("odd-resolution.json", "resolution is 1000"));
+  CHECK(said("negative-time.json", "time_s.total is -2.0"));
+  CHECK(said("incomplete.json", "complete is false"));
+  CHECK(said("list.json", "not an object"));
+  // The duplicate names both files, which one is used and why.
+  CHECK(said("older.json", (dir.path() / "good.json").string()));
+  CHECK(said("older.json",
+             "the first is not used (created 2026-01-01T00:00:00Z, the used one "
+             "2026-02-01T00:00:00Z)"));
+
+  const sb::Table& size = tableTitled(found.tables, "Size — ");
+  CHECK(rowLabels(size) == std::vector<std::string>{"sm32", "16-bit shadow map (analytic)",
+                                                    "32-bit shadow map (analytic)"});
+  CHECK(cell(size, "sm32", "512²") == "1.00");
+
+  // Duplicates of equal time: the later file is used, and that is said.
+  write("same-time.json", good.dump());
+  const sb::FolderTables tie = sb::tablesOfFolder(dir.path());
+  CHECK(std::any_of(tie.problems.begin(), tie.problems.end(), [&](const std::string& p) {
+    return p.find((dir.path() / "good.json").string() + "' and '" +
+                  (dir.path() / "same-time.json").string()) != std::string::npos &&
+           p.find("both created 2026-02-01T00:00:00Z; the later file is used") != std::string::npos;
+  }));
+}
+
+TEST_CASE("table numbers are formatted as tests/golden/number_format.tsv says", "[table]") {
+  // The same file checks the Python formatter of scripts/, so both print the same text.
+  std::ifstream in("tests/golden/number_format.tsv");
+  REQUIRE(in);
+  std::string line;
+  std::getline(in, line);
+  CHECK(line == "value\tkind\texpected");
+  size_t rows = 0;
+  std::set<std::string> kinds;
+  while (std::getline(in, line)) {
+    const size_t tab1 = line.find('\t'), tab2 = line.find('\t', tab1 + 1);
+    REQUIRE(tab2 != std::string::npos);
+    const std::string value = line.substr(0, tab1), kind = line.substr(tab1 + 1, tab2 - tab1 - 1);
+    const auto parsedKind = sb::numberKindFromString(kind);
+    REQUIRE(parsedKind);
+    INFO(line);
+    CHECK(sb::formatTableNumber(std::strtod(value.c_str(), nullptr), *parsedKind) ==
+          line.substr(tab2 + 1));
+    kinds.insert(kind);
+    ++rows;
+  }
+  CHECK(rows >= 30);
+  CHECK(kinds == std::set<std::string>{"significant", "count", "integer"});
+  CHECK_FALSE(sb::numberKindFromString("percent"));
+}
+
+TEST_CASE("tables made from records read back from disk equal those from the records", "[table]") {
+  sb::testing::ScratchDir dir("sb-table-test");
+  std::vector<json> records;
+  for (uint64_t r : {512u, 1024u})
+    for (const char* scheme : {"sm32", "mmh"}) {
+      json rec = record(scheme, r, double(r) * 300);
+      rec["time_s"] = {{"total", 1.25}, {"depth", 0.5}, {"phases", {{"encode", 0.7}}}};
+      rec["verification"] = {{"method", "exhaustive"}, {"queries", r * r * 7}, {"mismatches", 0}};
+      records.push_back(rec);
+      sb::writeJsonAtomically(dir.path() / (std::string(scheme) + std::to_string(r) + ".json"),
+                              rec);
+    }
+  const sb::FolderTables found = sb::tablesOfFolder(dir.path());
+  CHECK(found.problems.empty());
+  CHECK(sb::toMarkdown(found.tables) == sb::toMarkdown(tablesOf(records)));
 }

@@ -35,7 +35,7 @@ done
 
 "$sb" sweep --schemes sm32 --scenes city --resolutions 64,128 --out "$work/sweep" --no-bench > "$work/sweep1.txt"
 grep -q "2 cells built, 0 already done" "$work/sweep1.txt" || fail "first sweep: $(tail -1 "$work/sweep1.txt")"
-rm "$(ls "$work/sweep"/*128.json)"
+rm "$(ls "$work/sweep"/*_128_*.json)"
 echo '{"format": "shadowbench-record/1", "compl' > "$work/sweep/partial.json"
 "$sb" sweep --schemes sm32 --scenes city --resolutions 64,128 --out "$work/sweep" --no-bench > "$work/sweep2.txt"
 grep -q "1 cells built, 1 already done" "$work/sweep2.txt" || fail "resumed sweep: $(grep sweep: "$work/sweep2.txt")"

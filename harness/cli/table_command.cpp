@@ -5,7 +5,6 @@
 
 #include "harness/cli/commands.h"
 #include "harness/cli/options.h"
-#include "harness/record.h"
 #include "harness/table.h"
 
 namespace fs = std::filesystem;
@@ -19,12 +18,12 @@ struct TableOptions {
 };
 
 void writeTablesOf(const TableOptions& o) {
-  const auto loaded = readRecords(o.records);
-  if (loaded.records.empty())
+  const FolderTables found = tablesOfFolder(o.records);
+  for (const std::string& problem : found.problems) fmt::print(stderr, "table: {}\n", problem);
+  if (found.records == 0)
     throw std::runtime_error(fmt::format("no complete records under '{}'", o.records));
-  const auto tables = makeTables(loaded.records);
-  writeTables(tables, o.out.empty() ? fs::path(o.records) / "tables" : fs::path(o.out));
-  fmt::print("{}", toMarkdown(tables));
+  writeTables(found.tables, o.out.empty() ? fs::path(o.records) / "tables" : fs::path(o.out));
+  fmt::print("{}", toMarkdown(found.tables));
 }
 
 }  // namespace

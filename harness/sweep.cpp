@@ -1,0 +1,256 @@
+#include "harness/sweep.h"
+
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <deque>
+#include <set>
+#include <stdexcept>
+#include <system_error>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "harness/cell_key.h"
+#include "harness/cell_lock.h"
+#include "harness/record.h"
+
+namespace fs = std::filesystem;
+
+namespace sb {
+
+namespace {
+
+struct PlannedCell {
+  CellSpec spec;
+  const Scene* scene = nullptr;
+  Record identity;  // cellIdentity: a reusable record has its recordIdentity
+  std::string key;
+  fs::path path;        // out/<key>.json
+  fs::path legacyPath;  // out/<readableCellKey>.json, where records were before the hash
+};
+
+struct SweepPlan {
+  std::deque<Scene> scenes;  // a deque: cells point into it
+  std::vector<PlannedCell> cells;
+};
+
+// The parameters of `given` that `scheme` declares.
+Params declaredParams(const SchemeInfo& scheme, const Params& given) {
+  Params own;
+  for (const ParamSpec& spec : scheme.params)
+    if (const auto it = given.find(spec.name); it != given.end()) own.insert(*it);
+  return own;
+}
+
+std::vector<const SchemeInfo*> sweptSchemes(const SweepSpec& spec) {
+  std::vector<const SchemeInfo*> swept;
+  for (const std::string& name : spec.schemes) {
+    if (name == "all")
+      for (const SchemeInfo& s : schemes()) swept.push_back(&s);
+    else
+      swept.push_back(&findScheme(name));  // throws naming the schemes there are
+  }
+  return swept;
+}
+
+void checkParams(const std::vector<const SchemeInfo*>& swept, const Params& params) {
+  std::set<std::string> declared;
+  for (const SchemeInfo* scheme : swept) {
+    scheme->resolve(declaredParams(*scheme, params));  // throws on a bad value
+    for (const ParamSpec& p : scheme->params) declared.insert(p.name);
+  }
+  for (const auto& [name, value] : params)
+    if (!declared.count(name))
+      throw std::invalid_argument(
+          fmt::format("no swept scheme has a parameter '{}' (see 'shadowbench schemes')", name));
+}
+
+// Creates `out` and writes and removes a file in it: a read-only folder is found now, not after
+// every cell is built.
+void checkWritable(const fs::path& out) {
+  std::error_code error;
+  fs::create_directories(out, error);
+  if (error)
+    throw std::runtime_error(
+        fmt::format("cannot create the records folder '{}': {}", out.string(), error.message()));
+  std::string probe = (out / ".write-check-XXXXXX").string();
+  const int fd = mkstemp(probe.data());
+  if (fd < 0)
+    throw std::runtime_error(fmt::format("the records folder '{}' is not writable: {}",
+                                         out.string(), std::strerror(errno)));
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
+
+// The record at `path` when it answers `identity`; nullopt when absent, unreadable or another.
+std::optional<Record> answering(const fs::path& path, const Record& identity) {
+  std::error_code error;
+  if (!fs::exists(path, error)) return std::nullopt;
+  try {
+    Record record = loadRecord(path);
+    if (recordIdentity(record) == recordIdentity(identity)) return record;
+  } catch (const RecordError&) {
+  }
+  return std::nullopt;
+}
+
+SweepPlan plan(const SweepSpec& spec) {
+  const std::vector<const SchemeInfo*> swept = sweptSchemes(spec);
+  checkParams(swept, spec.params);
+  std::vector<DepthMode> modes;
+  for (const std::string& mode : spec.modes) modes.push_back(depthModeFromString(mode));
+  std::vector<uint32_t> resolutions;
+  for (const std::string& resolution : spec.resolutions)
+    resolutions.push_back(parseResolution(resolution));
+  SweepPlan plan;
+  for (const std::string& sceneSpec : spec.scenes) plan.scenes.push_back(openScene(sceneSpec));
+  checkWritable(spec.out);
+
+  for (size_t s = 0; s < spec.scenes.size(); ++s)
+    for (DepthMode mode : modes)
+      for (const SchemeInfo* scheme : swept)
+        for (uint32_t resolution : resolutions) {
+          PlannedCell cell;
+          cell.spec = {spec.scenes[s], 0, mode, scheme->name, declaredParams(*scheme, spec.params),
+                       resolution,     0};
+          cell.scene = &plan.scenes[s];
+          cell.identity = cellIdentity(cell.spec, *cell.scene);
+          cell.key = cellKey(cell.identity);
+          cell.path = spec.out / (cell.key + ".json");
+          cell.legacyPath = spec.out / (readableCellKey(cell.identity) + ".json");
+          if (!answering(cell.path, cell.identity) && !answering(cell.legacyPath, cell.identity)) {
+            try {
+              checkBuildFits(*scheme, mapFor(*scheme, mode, resolution),
+                             scheme->resolve(cell.spec.params), BuildShape{cell.identity.tileSize});
+            } catch (const std::exception& error) {
+              throw std::runtime_error(fmt::format("cell {}: {}", cell.key, error.what()));
+            }
+          }
+          plan.cells.push_back(std::move(cell));
+        }
+  return plan;
+}
+
+// "2026-11-26T10:00:00Z" → "20261126T100000Z": the letters and digits of a record's time, for a
+// file name; "undated" when there are none.
+std::string compactTime(const std::string& created) {
+  std::string compact;
+  for (char c : created)
+    if ((c >= '0' && c <= '9') || (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z')) compact += c;
+  return compact.empty() ? std::string("undated") : compact;
+}
+
+class Sweeper {
+ public:
+  Sweeper(const SweepSpec& spec, const SweepEvents& events) : spec_(spec), events_(events) {}
+
+  // Builds the cell unless a record answers it; the caller holds the cell's lock.
+  void buildOrReuse(const PlannedCell& cell) {
+    if (answering(cell.path, cell.identity)) {
+      ++outcome.reused;
+      return;
+    }
+    if (answering(cell.legacyPath, cell.identity)) {
+      fs::rename(cell.legacyPath, cell.path);
+      ++outcome.reused;
+      return;
+    }
+    try {
+      const Record record = runCell(cell.spec, *cell.scene, spec_.cellOptions);
+      moveAsideOlderRecords(cell);
+      writeRecord(cell.path, record);
+      ++outcome.built;
+      if (record.verification && record.verification->mismatches > 0) ++outcome.failed;
+      if (events_.built) events_.built(record);
+    } catch (const std::exception& error) {
+      // One cell that cannot be built (e.g. memory taken since the check) does not stop the
+      // sweep.
+      warn(fmt::format("cell {} skipped: {}", cell.key, error.what()));
+      ++outcome.failed;
+    }
+  }
+
+  void warn(const std::string& message) const {
+    if (events_.warning) events_.warning(message);
+  }
+
+  SweepOutcome outcome;
+
+ private:
+  // What the new record replaces, kept and never reused: the file at the cell's path (another
+  // identity — an edited scene — or not a record at all) and a record of the same request under
+  // the name used before the request hash.
+  void moveAsideOlderRecords(const PlannedCell& cell) {
+    std::error_code error;
+    if (fs::exists(cell.path, error)) moveAside(cell.path, cell);
+    try {
+      if (fs::exists(cell.legacyPath, error) &&
+          recordRequest(loadRecord(cell.legacyPath)) == recordRequest(cell.identity))
+        moveAside(cell.legacyPath, cell);
+    } catch (const RecordError&) {
+      // Not a record: not this cell's to move.
+    }
+  }
+
+  // Moves `path` to <out>/superseded/<name>.<created>.json, saying why it no longer answers
+  // `cell`.
+  void moveAside(const fs::path& path, const PlannedCell& cell) {
+    std::string created, why;
+    try {
+      const Record old = loadRecord(path);
+      created = old.created;
+      const nlohmann::json was = recordIdentity(old), now = recordIdentity(cell.identity);
+      std::vector<std::string> changed;
+      for (const auto& [field, value] : now.items())
+        if (was.value(field, nlohmann::json()) != value) changed.push_back(field);
+      why = fmt::format("its {} differ", fmt::join(changed, ", "));
+    } catch (const RecordError& error) {
+      why = error.what();
+    }
+    const fs::path folder = spec_.out / kSupersededFolder;
+    fs::create_directories(folder);
+    const std::string base = fmt::format("{}.{}", path.stem().string(), compactTime(created));
+    fs::path target = folder / (base + ".json");
+    for (int n = 2; fs::exists(target); ++n) target = folder / fmt::format("{}-{}.json", base, n);
+    fs::rename(path, target);
+    ++outcome.superseded;
+    warn(fmt::format("'{}' does not answer cell {} ({}): moved to '{}'", path.string(), cell.key,
+                     why, target.string()));
+  }
+
+  const SweepSpec& spec_;
+  const SweepEvents& events_;
+};
+
+}  // namespace
+
+SweepOutcome runSweep(const SweepSpec& spec, const SweepEvents& events) {
+  const SweepPlan planned = plan(spec);
+  Sweeper sweeper(spec, events);
+  std::vector<const PlannedCell*> heldElsewhere;
+  for (const PlannedCell& cell : planned.cells) {
+    const auto lock = CellLock::acquire(spec.out, cell.key, /*wait=*/false);
+    if (!lock) {
+      heldElsewhere.push_back(&cell);
+      continue;
+    }
+    sweeper.buildOrReuse(cell);
+  }
+  for (const PlannedCell* cell : heldElsewhere) {
+    sweeper.warn(fmt::format("cell {} is being built by another sweep: waiting for it", cell->key));
+    const auto lock = CellLock::acquire(spec.out, cell->key, /*wait=*/true);
+    sweeper.buildOrReuse(*cell);
+  }
+
+  FolderTables found = tablesOfFolder(spec.out);
+  for (const std::string& problem : found.problems) sweeper.warn("table: " + problem);
+  writeTables(found.tables, spec.out / "tables");
+  SweepOutcome outcome = std::move(sweeper.outcome);
+  outcome.tables = std::move(found.tables);
+  return outcome;
+}
+
+}  // namespace sb
