@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/build.h"
+#include "harness/resolution.h"
 #include "harness/verify.h"
 #include "scenes/scene.h"
 
@@ -40,10 +41,6 @@ nlohmann::json cellIdentity(const CellSpec& cell, const Scene& scene);
 // Builds the cell and returns its complete record (DESIGN §6). Throws on bad input; a wrong
 // answer is not an exception but a record with mismatches.
 nlohmann::json runCell(const CellSpec& cell, const Scene& scene, const CellOptions& options);
-
-// Parses "4096", "4K", "4k", "256K" into texels per side.
-uint32_t parseResolution(std::string_view text);
-std::string resolutionLabel(uint32_t resolution);  // 4096 → "4K"
 
 // The light at `index` in the scene, fitted; throws naming the scene's light count.
 Light sceneLight(const Scene& scene, uint32_t index);
