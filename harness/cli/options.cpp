@@ -1,10 +1,21 @@
 #include "harness/cli/options.h"
 
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <sstream>
+#include <system_error>
 
 #include <fmt/format.h>
 
 #include "harness/cell.h"
+#include "schemes/interface/atomic_file.h"
+
+namespace fs = std::filesystem;
 
 namespace sb::cli {
 
@@ -44,7 +55,10 @@ Params parseParams(const std::vector<std::string>& assignments) {
     const size_t eq = a.find('=');
     if (eq == std::string::npos || eq == 0)
       throw std::invalid_argument(fmt::format("parameter '{}' must be written name=value", a));
-    params[a.substr(0, eq)] = a.substr(eq + 1);
+    const auto [previous, added] = params.emplace(a.substr(0, eq), a.substr(eq + 1));
+    if (!added)
+      throw std::invalid_argument(fmt::format("parameter '{}' given twice ('{}' and '{}')",
+                                              previous->first, previous->second, a.substr(eq + 1)));
   }
   return params;
 }
@@ -55,6 +69,60 @@ std::vector<std::string> splitList(const std::string& text) {
   for (std::string item; std::getline(in, item, ',');)
     if (!item.empty()) items.push_back(item);
   return items;
+}
+
+std::vector<fs::path> sceneInputFiles(const std::string& sceneSpec) {
+  std::vector<fs::path> inputs;
+  std::error_code error;
+  const fs::path named{sceneSpec};
+  if (!fs::is_regular_file(named, error)) return inputs;
+  inputs.push_back(named);
+  // Parsed whatever its extension: a model file fails at its first character.
+  std::ifstream in(named);
+  const nlohmann::json scene = nlohmann::json::parse(in, nullptr, false);
+  if (!scene.is_object() || !scene.contains("meshes") || !scene["meshes"].is_array()) return inputs;
+  for (const nlohmann::json& mesh : scene["meshes"])
+    if (mesh.is_object() && mesh.contains("file") && mesh["file"].is_string()) {
+      const fs::path model{mesh["file"].get<std::string>()};
+      inputs.push_back(model.is_absolute() ? model : named.parent_path() / model);
+    }
+  return inputs;
+}
+
+void checkOutputFile(const fs::path& output, const std::vector<fs::path>& inputs) {
+  if (!output.has_filename())
+    throw std::runtime_error(
+        fmt::format("output '{}' names a folder, not a file", output.string()));
+  checkReplaceable(output);
+  std::error_code error;
+  for (const fs::path& input : inputs)
+    if (fs::equivalent(output, input, error))
+      throw std::runtime_error(fmt::format("refusing to write '{}': it is the input '{}'",
+                                           output.string(), input.string()));
+  checkWritableFolder(output.parent_path());
+}
+
+void checkWritableFolder(const fs::path& folder) {
+  const fs::path at = folder.empty() ? fs::path(".") : folder;
+  std::error_code error;
+  fs::create_directories(at, error);
+  if (error)
+    throw std::runtime_error(
+        fmt::format("cannot create the folder '{}': {}", at.string(), error.message()));
+  std::string probe = (at / ".shadowbench-probe-XXXXXX").string();
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0)
+    throw std::runtime_error(fmt::format("cannot create files in the folder '{}': {}", at.string(),
+                                         std::strerror(errno)));
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
+
+void flushStandardOutput() {
+  errno = 0;
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return;
+  if (errno == 0) throw std::runtime_error("cannot write standard output: an earlier write failed");
+  throw std::system_error(errno, std::generic_category(), "cannot write standard output");
 }
 
 void printVerification(const nlohmann::json& v) {

@@ -1,5 +1,5 @@
-#include <fstream>
 #include <memory>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -7,6 +7,7 @@
 #include "harness/cli/commands.h"
 #include "harness/cli/options.h"
 #include "harness/scene_export.h"
+#include "schemes/interface/atomic_file.h"
 
 namespace sb::cli {
 
@@ -38,10 +39,11 @@ struct ExportOptions {
 };
 
 void exportScene(const ExportOptions& o) {
+  checkOutputFile(o.output, sceneInputFiles(o.map.scene));
   const Scene scene = openScene(o.map.scene);
-  std::ofstream out(o.output);
-  if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", o.output));
-  exportLightSpaceObj(scene, sceneLight(scene, o.map.light), out);
+  std::ostringstream obj;
+  exportLightSpaceObj(scene, sceneLight(scene, o.map.light), obj);
+  writeFileAtomically(o.output, obj.view());
   fmt::print("wrote {} ({} triangles in light space)\n", o.output, scene.triangleCount());
 }
 
