@@ -28,8 +28,9 @@ void holdClosedStandardStreams() {
       ::open("/dev/null", fd == STDIN_FILENO ? O_WRONLY : O_RDONLY);  // lowest free: fd
 }
 
+// std::fprintf, unlike fmt::print, does not throw when stderr itself cannot be written.
 int fail(const std::string& message) {
-  fmt::print(stderr, "shadowbench: {}\n", message);
+  std::fprintf(stderr, "shadowbench: %s\n", message.c_str());
   return 2;
 }
 
@@ -61,12 +62,14 @@ int main(int argc, char** argv) {
   sb::addDistantFiltersCommand(app);
 
   try {
-    app.parse(argc, argv);
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& error) {
+      if (error.get_exit_code() != 0)
+        return fail(fmt::format("{} (run with --help for usage)", error.what()));
+      app.exit(error);  // --help: an "error" of status 0 whose text CLI11 prints
+    }
     sb::cli::flushStandardOutput();
-  } catch (const CLI::ParseError& error) {
-    // --help and --version are "errors" with status 0: CLI11 prints what they ask for.
-    if (error.get_exit_code() == 0) return app.exit(error);
-    return fail(fmt::format("{} (run with --help for usage)", error.what()));
   } catch (const std::exception& error) {
     return fail(describe(error));
   }

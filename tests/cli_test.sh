@@ -117,7 +117,7 @@ refused "--light" "$sb" build --light x
 "$sb" build --help | grep -q "^Usage:" || fail "build --help"
 
 # Output that cannot be written fails the run, naming why: a full device, a closed stdout.
-for command in "schemes" "schemes --json" "scene list" "table $work/sweep"; do
+for command in "schemes" "schemes --json" "scene list" "table $work/sweep" "build --help"; do
   set +e
   $sb $command > /dev/full 2> "$work/err.txt"; full=$?
   $sb $command >&- 2> "$work/closed.txt"; closed=$?
@@ -128,6 +128,10 @@ for command in "schemes" "schemes --json" "scene list" "table $work/sweep"; do
     fail "'$command >&-': rc $closed, $(cat "$work/closed.txt")"
 done
 set +e
+"$sb" schemes >&- 2>&-; closed=$?
+set -e
+[ $closed -eq 2 ] || fail "schemes with stdout and stderr closed: rc $closed"
+set +e
 echo "0.5 0.5 0.5" | "$sb" query "$work/city.sb" > /dev/full 2> "$work/err.txt"; full=$?
 echo "0.5 0.5 0.5" | "$sb" query "$work/city.sb" >&- 2> "$work/closed.txt"; closed=$?
 # Endless queries: only stopping at the first failed write ends this.
@@ -135,7 +139,7 @@ yes "0.5 0.5 0.5" | timeout 60 "$sb" query "$work/city.sb" > /dev/full 2> "$work
 set -e
 [ $full -eq 2 ] && grep -q "cannot write standard output: No space left on device" "$work/err.txt" || fail "query > /dev/full: rc $full, $(cat "$work/err.txt")"
 [ $closed -eq 2 ] && grep -q "cannot write standard output: Bad file descriptor" "$work/closed.txt" || fail "query >&-: rc $closed, $(cat "$work/closed.txt")"
-[ $endless -eq 2 ] && grep -q "No space left on device" "$work/endless.txt" || fail "endless query > /dev/full: rc $endless, $(cat "$work/endless.txt")"
+[ $endless -eq 2 ] && grep -qx "shadowbench: cannot write standard output: No space left on device" "$work/endless.txt" || fail "endless query > /dev/full: rc $endless, $(cat "$work/endless.txt")"
 
 # The registry as JSON for scripts, values as strings as records hold them.
 "$sb" schemes --json > "$work/schemes.json"
