@@ -28,27 +28,6 @@ std::string utcNow() {
 
 }  // namespace
 
-uint32_t parseResolution(std::string_view text) {
-  std::string digits(text);
-  uint64_t multiplier = 1;
-  if (!digits.empty() && (digits.back() == 'K' || digits.back() == 'k')) {
-    multiplier = 1024;
-    digits.pop_back();
-  }
-  uint64_t value = 0;
-  bool ok = !digits.empty() && digits.size() < 10;
-  for (char c : digits) ok = ok && c >= '0' && c <= '9', value = value * 10 + uint64_t(c - '0');
-  value *= multiplier;
-  if (!ok || !validResolution(value))
-    throw std::invalid_argument(fmt::format(
-        "resolution '{}' must be a power of two from 8 to 1024K (e.g. 512, 4K, 64K)", text));
-  return uint32_t(value);
-}
-
-std::string resolutionLabel(uint32_t resolution) {
-  return resolution >= 1024 ? fmt::format("{}K", resolution / 1024) : fmt::format("{}", resolution);
-}
-
 Light sceneLight(const Scene& scene, uint32_t index) {
   if (index >= scene.lights.size())
     throw std::invalid_argument(fmt::format("scene '{}' has {} light(s); light {} does not exist",

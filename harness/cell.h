@@ -12,6 +12,7 @@
 #include "harness/build.h"
 #include "harness/query_sets.h"
 #include "harness/record_type.h"
+#include "harness/resolution.h"
 #include "harness/verify.h"
 #include "scenes/scene.h"
 
@@ -43,10 +44,6 @@ Record cellIdentity(const CellSpec& cell, const Scene& scene);
 // Builds the cell and returns its complete record (DESIGN §6). Throws on bad input; a wrong
 // answer is not an exception but a record with mismatches.
 Record runCell(const CellSpec& cell, const Scene& scene, const CellOptions& options);
-
-// Parses "4096", "4K", "4k", "256K" into texels per side.
-uint32_t parseResolution(std::string_view text);
-std::string resolutionLabel(uint32_t resolution);  // 4096 → "4K"
 
 // The light at `index` in the scene, fitted; throws naming the scene's light count.
 Light sceneLight(const Scene& scene, uint32_t index);

@@ -7,6 +7,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -14,6 +15,7 @@
 #include <unordered_set>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #define XXH_STATIC_LINKING_ONLY  // XXH3_state_t on the stack
 #include <xxhash.h>
 
@@ -317,6 +319,24 @@ Scene openScene(std::string_view spec, uint64_t memoryLimitBytes) {
                     "\"closed\" per mesh",
                     spec));
   return loadSceneFile(path, memoryLimitBytes);
+}
+
+std::vector<std::filesystem::path> sceneSourceFiles(std::string_view spec) {
+  namespace fs = std::filesystem;
+  const fs::path named{std::string(modelSpec(spec).path)};
+  std::error_code error;
+  if (!fs::is_regular_file(named, error)) return {};
+  std::vector<fs::path> files{named};
+  if (!hasJsonExtension(named)) return files;
+  std::ifstream in(named);
+  const nlohmann::json scene = nlohmann::json::parse(in, nullptr, false);
+  if (!scene.is_object() || !scene.contains("meshes") || !scene["meshes"].is_array()) return files;
+  for (const nlohmann::json& mesh : scene["meshes"])
+    if (mesh.is_object() && mesh.contains("file") && mesh["file"].is_string()) {
+      const fs::path model{mesh["file"].get<std::string>()};
+      files.push_back(model.is_absolute() ? model : named.parent_path() / model);
+    }
+  return files;
 }
 
 }  // namespace sb

@@ -114,6 +114,11 @@ Scene openScene(std::string_view spec, uint64_t memoryLimitBytes);
 Scene loadSceneFile(const std::filesystem::path& path);
 Scene loadSceneFile(const std::filesystem::path& path, uint64_t memoryLimitBytes);
 
+// The files a specification reads: none for a generator; the model file (without a ":closed"
+// suffix); or the scene file and the model files its meshes name, as loadSceneFile resolves
+// them. What an output must never overwrite. Never throws; an unreadable file lists itself.
+std::vector<std::filesystem::path> sceneSourceFiles(std::string_view spec);
+
 // The default light for a scene without one: the sun from above and a little aside.
 LightSpec defaultLight();
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # End-to-end through the shadowbench CLI as a user runs it: build and save, query, verify,
-# sweep and resume, tables from records, and clear errors (exit 2) on bad input.
+# sweep and resume, tables from records, the registry as JSON, and clear errors (exit 2) on bad
+# input, refused outputs and lost output, found before any work.
 #   tests/cli_test.sh path/to/shadowbench
 set -euo pipefail
 sb=$1
@@ -8,6 +9,19 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 export SHADOWBENCH_QUIET=1
 fail() { echo "FAIL: $*" >&2; exit 1; }
+# refused TEXT COMMAND…: exit status 2 and one line on stderr that contains TEXT.
+refused() {
+  local text=$1 rc
+  shift
+  set +e
+  "$@" > /dev/null 2> "$work/err.txt"; rc=$?
+  set -e
+  [ $rc -eq 2 ] && [ "$(wc -l < "$work/err.txt")" -eq 1 ] && grep -qF -- "$text" "$work/err.txt" ||
+    fail "'$*': rc $rc, expected 2 and '$text', got: $(cat "$work/err.txt")"
+}
+# A scene that does not exist: a refusal that names something else was made before the scene
+# was opened, so before any work.
+missing=$work/missing.obj
 
 "$sb" build --scene city -m closed -r 64 -o "$work/city.sb" --results "$work/builds" --no-bench > "$work/build.txt"
 grep -q "0 mismatches" "$work/build.txt" || fail "build did not verify: $(cat "$work/build.txt")"
@@ -20,13 +34,20 @@ printf '0.5 0.5 1.0\n\n2 2 0.5 9\n0.5 0.5 0.0 3\n' | "$sb" query "$work/city.sb"
 [ "$(wc -l < "$work/answers.txt")" -eq 3 ] || fail "blank query lines must be skipped"
 
 "$sb" verify "$work/city.sb" --scene city | grep -q "0 mismatches" || fail "verify of a saved structure"
+# The structure remembers its scene: verifying against another names that, not mismatches.
+set +e
+"$sb" verify "$work/city.sb" --scene terrain > /dev/null 2> "$work/err.txt"; rc=$?
+set -e
+[ $rc -eq 2 ] && grep -q "built from another scene" "$work/err.txt" || fail "verify with another scene: rc $rc, $(cat "$work/err.txt")"
+# `scene info` says whether each mesh is watertight.
+"$sb" scene info --scene city | grep -q "watertight" || fail "scene info reports no watertightness"
 
 head -c 200 "$work/city.sb" > "$work/truncated.sb"
 set +e
 "$sb" query "$work/truncated.sb" < /dev/null 2> "$work/err.txt"; rc=$?
 set -e
 [ $rc -eq 2 ] && grep -q "truncated or corrupted" "$work/err.txt" || fail "truncated structure: rc $rc, $(cat "$work/err.txt")"
-for bad in "build -r 3000" "build --scheme nope" "build -p nope=1" "build --scene $work/missing.obj" "build -m sideways"; do
+for bad in "build -r 3000" "build --scheme nope" "build -p nope=1" "build --scene $work/missing.obj" "build -m sideways" "build -l 5"; do
   set +e
   "$sb" $bad --no-bench > /dev/null 2> "$work/err.txt"; rc=$?
   set -e
@@ -54,4 +75,94 @@ set -e
 
 "$sb" scene export --scene forest -o "$work/forest.obj" > /dev/null
 grep -q "^o open_" "$work/forest.obj" || fail "export names open meshes"
+
+# Outputs that would destroy something, or fail only after the build, are refused before the
+# scene is opened, and nothing is left behind (a FIFO stands for a device node: replacing a real
+# one is what the refusal prevents, so a real one is never risked).
+mkfifo "$work/fifo"
+mkdir "$work/folder"
+refused "refusing to replace '$work/fifo': it exists and is not a regular file" "$sb" build --scene "$missing" -o "$work/fifo"
+refused "refusing to replace '$work/folder'" "$sb" build --scene "$missing" -o "$work/folder"
+refused "output '$work/new/' names a folder" "$sb" build --scene "$missing" -o "$work/new/"
+[ -p "$work/fifo" ] && [ -d "$work/folder" ] && [ ! -e "$work/new" ] || fail "a refused output was touched"
+"$sb" scene export --scene city -o "$work/model.obj" > /dev/null
+cp "$work/model.obj" "$work/model.before"
+echo '{"meshes": [{"name": "model", "file": "model.obj"}]}' > "$work/scene.json"
+refused "it is the input" "$sb" scene export --scene "$work/model.obj" -o "$work/./model.obj"
+refused "it is the input" "$sb" build --scene "$work/model.obj" -o "$work/model.obj" -r 64 --no-bench
+refused "it is the input '$work/model.obj'" "$sb" build --scene "$work/scene.json" -o "$work/../$(basename "$work")/model.obj" -r 64 --no-bench
+refused "it is the input" "$sb" depth --scene "$work/scene.json" -r 64 --exr "$work/scene.json"
+cmp -s "$work/model.obj" "$work/model.before" || fail "an input was overwritten by an output"
+# A sweep's per-cell lock files (.locks/) are meant to stay; anything else hidden is a temporary.
+leftovers=$(find "$work" -mindepth 1 -name .locks -prune -o \( -name '.*' -o -name '*.partial' \) -print)
+[ -z "$leftovers" ] || fail "temporaries left behind: $leftovers"
+
+# Everything a build is given is checked before the scene is opened; depth's EXR limit before
+# the depth pass.
+refused "unknown scheme 'nope'" "$sb" build --scene "$missing" --scheme nope
+refused "has no parameter 'nope'" "$sb" build --scene "$missing" -p nope=1
+refused "unknown depth mode 'sideways'" "$sb" build --scene "$missing" -m sideways
+refused "resolution '3000'" "$sb" build --scene "$missing" -r 3000
+refused "tile size 3 must be a power of two in [8, 1024]" "$sb" build --scene "$missing" --tile 3
+touch "$work/plain"
+refused "cannot create the folder '$work/plain/records'" "$sb" build --scene "$missing" --results "$work/plain/records"
+refused "--exr is limited to 16K² maps; 32K² asked" "$sb" depth --scene "$missing" -r 32K --exr "$work/depth.exr"
+
+# Resolutions: 1M is 1024K; fractions and zero are refused.
+refused "tile size 3 must be a power of two in [8, 1048576]" "$sb" build --scene city -r 1M --tile 3
+refused "tile size 3 must be a power of two in [8, 1048576]" "$sb" build --scene city -r 1m --tile 3
+refused "resolution '1.5K' must be a power of two" "$sb" build --scene "$missing" -r 1.5K
+refused "resolution '0' must be a power of two" "$sb" build --scene "$missing" -r 0
+
+# A parameter given twice is refused, not its last value silently kept.
+refused "parameter 'treelet-height' given twice ('3' and '4')" "$sb" build --scene "$missing" --scheme dag-mh -p treelet-height=3 -p treelet-height=4
+refused "parameter 'culling' given twice" "$sb" sweep --scenes "$missing" --schemes cpvs-fast -p culling=off -p culling=on --out "$work/twice"
+
+# Command-line errors exit 2 with one line; --help still succeeds.
+refused "not expected: --bogus" "$sb" build --bogus
+refused "--resolution" "$sb" build -r
+refused "--light" "$sb" build --light x
+"$sb" build --help | grep -q "^Usage:" || fail "build --help"
+
+# Output that cannot be written fails the run, naming why: a full device, a closed stdout.
+for command in "schemes" "schemes --json" "scene list" "table $work/sweep" "build --help"; do
+  set +e
+  $sb $command > /dev/full 2> "$work/err.txt"; full=$?
+  $sb $command >&- 2> "$work/closed.txt"; closed=$?
+  set -e
+  [ $full -eq 2 ] && grep -qx "shadowbench: cannot write standard output: No space left on device" "$work/err.txt" ||
+    fail "'$command > /dev/full': rc $full, $(cat "$work/err.txt")"
+  [ $closed -eq 2 ] && grep -qx "shadowbench: cannot write standard output: Bad file descriptor" "$work/closed.txt" ||
+    fail "'$command >&-': rc $closed, $(cat "$work/closed.txt")"
+done
+set +e
+"$sb" schemes >&- 2>&-; closed=$?
+set -e
+[ $closed -eq 2 ] || fail "schemes with stdout and stderr closed: rc $closed"
+set +e
+echo "0.5 0.5 0.5" | "$sb" query "$work/city.sb" > /dev/full 2> "$work/err.txt"; full=$?
+echo "0.5 0.5 0.5" | "$sb" query "$work/city.sb" >&- 2> "$work/closed.txt"; closed=$?
+# Endless queries: only stopping at the first failed write ends this.
+yes "0.5 0.5 0.5" | timeout 60 "$sb" query "$work/city.sb" > /dev/full 2> "$work/endless.txt"; endless=${PIPESTATUS[1]}
+set -e
+[ $full -eq 2 ] && grep -q "cannot write standard output: No space left on device" "$work/err.txt" || fail "query > /dev/full: rc $full, $(cat "$work/err.txt")"
+[ $closed -eq 2 ] && grep -q "cannot write standard output: Bad file descriptor" "$work/closed.txt" || fail "query >&-: rc $closed, $(cat "$work/closed.txt")"
+[ $endless -eq 2 ] && grep -qx "shadowbench: cannot write standard output: No space left on device" "$work/endless.txt" || fail "endless query > /dev/full: rc $endless, $(cat "$work/endless.txt")"
+
+# The registry as JSON for scripts, values as strings as records hold them.
+"$sb" schemes --json > "$work/schemes.json"
+/usr/bin/python3 -c '
+import json, sys
+schemes = {s["name"]: s for s in json.load(open(sys.argv[1]))["schemes"]}
+dag = schemes["dag-mh"]
+assert dag["kind"] == "depth" and dag["paper"].startswith("Scandolo & Eisemann 2021"), dag
+height = {p["name"]: p for p in dag["params"]}["treelet-height"]
+assert height == {"name": "treelet-height", "help": height["help"], "type": "integer",
+                  "default": "4", "min": 1, "max": 5, "sweep": ["2", "3", "4", "5"]}, height
+culling = {p["name"]: p for p in schemes["cpvs-fast"]["params"]}["culling"]
+assert culling == {"name": "culling", "help": culling["help"], "type": "choice", "default": "on",
+                   "choices": ["on", "off"], "sweep": ["on", "off"]}, culling
+assert schemes["sm32"]["params"] == [] and schemes["cpvs"]["kind"] == "voxel"
+' "$work/schemes.json" || fail "schemes --json"
+
 echo "1 passed, 0 failed"

@@ -23,10 +23,20 @@ struct BuildOptions {
 };
 
 int buildCell(const BuildOptions& o) {
+  // Everything the scene is not needed for is checked before it is opened, and the light (in
+  // runCell) before the depth pass: a typo or an output that cannot be written must not cost a
+  // build (issue 11 A2, A9).
+  const SchemeInfo& scheme = findScheme(o.scheme);
+  const Params params = parseParams(o.params);
+  scheme.resolve(params);
+  const DepthMode mode = depthModeFromString(o.map.mode);
+  const uint32_t resolution = parseResolution(o.map.resolution);
+  checkTileSize(o.map.tile, resolution);
+  if (!o.output.empty()) checkOutputFile(o.output, sceneSourceFiles(o.map.scene));
+  checkWritableFolder(o.results);
+
   const Scene scene = openScene(o.map.scene);
-  const CellSpec cell{o.map.scene, o.map.light,           depthModeFromString(o.map.mode),
-                      o.scheme,    parseParams(o.params), parseResolution(o.map.resolution),
-                      o.map.tile};
+  const CellSpec cell{o.map.scene, o.map.light, mode, o.scheme, params, resolution, o.map.tile};
   CellOptions options;
   options.verify = !o.noVerify;
   options.benchLookups = !o.noBench;

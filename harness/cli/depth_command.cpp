@@ -18,11 +18,24 @@ struct DepthOptions {
   bool rayCast = false;
 };
 
+// The largest map writeDualDepthExr writes: both channels in memory at once.
+constexpr uint32_t kMaxExrResolution = 16384;
+
 void streamDepth(const DepthOptions& o) {
-  const Scene scene = openScene(o.map.scene);
+  // Checked before the depth pass, which at the sizes refused here takes minutes (issue 11 A9).
+  const DepthMode mode = depthModeFromString(o.map.mode);
   const uint32_t r = parseResolution(o.map.resolution);
-  const DepthSource source(scene, sceneLight(scene, o.map.light), depthModeFromString(o.map.mode),
-                           r, o.rayCast ? DepthMethod::RayCast : DepthMethod::Rasterize);
+  checkTileSize(o.map.tile, r);
+  if (!o.exr.empty()) {
+    if (r > kMaxExrResolution)
+      throw std::invalid_argument(fmt::format("--exr is limited to {}² maps; {}² asked",
+                                              resolutionLabel(kMaxExrResolution),
+                                              resolutionLabel(r)));
+    checkOutputFile(o.exr, sceneSourceFiles(o.map.scene));
+  }
+  const Scene scene = openScene(o.map.scene);
+  const DepthSource source(scene, sceneLight(scene, o.map.light), mode, r,
+                           o.rayCast ? DepthMethod::RayCast : DepthMethod::Rasterize);
   Progress progress("depth", uint64_t(r) * r, "texels");
   const StreamStats stats = streamDualDepth(
       source, o.map.tile ? o.map.tile : defaultTileSize(r), [](const DualDepthTile&) {},

@@ -1,10 +1,20 @@
 #include "harness/cli/options.h"
 
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <sstream>
+#include <system_error>
 
 #include <fmt/format.h>
 
 #include "harness/cell.h"
+#include "schemes/interface/atomic_file.h"
+
+namespace fs = std::filesystem;
 
 namespace sb::cli {
 
@@ -44,7 +54,10 @@ Params parseParams(const std::vector<std::string>& assignments) {
     const size_t eq = a.find('=');
     if (eq == std::string::npos || eq == 0)
       throw std::invalid_argument(fmt::format("parameter '{}' must be written name=value", a));
-    params[a.substr(0, eq)] = a.substr(eq + 1);
+    const auto [previous, added] = params.emplace(a.substr(0, eq), a.substr(eq + 1));
+    if (!added)
+      throw std::invalid_argument(fmt::format("parameter '{}' given twice ('{}' and '{}')",
+                                              previous->first, previous->second, a.substr(eq + 1)));
   }
   return params;
 }
@@ -55,6 +68,42 @@ std::vector<std::string> splitList(const std::string& text) {
   for (std::string item; std::getline(in, item, ',');)
     if (!item.empty()) items.push_back(item);
   return items;
+}
+
+void checkOutputFile(const fs::path& output, const std::vector<fs::path>& inputs) {
+  if (!output.has_filename())
+    throw std::runtime_error(
+        fmt::format("output '{}' names a folder, not a file", output.string()));
+  checkReplaceable(output);
+  std::error_code error;
+  for (const fs::path& input : inputs)
+    if (fs::equivalent(output, input, error))
+      throw std::runtime_error(fmt::format("refusing to write '{}': it is the input '{}'",
+                                           output.string(), input.string()));
+  checkWritableFolder(output.parent_path());
+}
+
+void checkWritableFolder(const fs::path& folder) {
+  const fs::path at = folder.empty() ? fs::path(".") : folder;
+  std::error_code error;
+  fs::create_directories(at, error);
+  if (error)
+    throw std::runtime_error(
+        fmt::format("cannot create the folder '{}': {}", at.string(), error.message()));
+  std::string probe = (at / ".shadowbench-probe-XXXXXX").string();
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0)
+    throw std::runtime_error(fmt::format("cannot create files in the folder '{}': {}", at.string(),
+                                         std::strerror(errno)));
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
+
+void flushStandardOutput() {
+  errno = 0;
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return;
+  if (errno == 0) throw std::runtime_error("cannot write standard output: an earlier write failed");
+  throw std::system_error(errno, std::generic_category(), "cannot write standard output");
 }
 
 void printVerification(const nlohmann::json& v) {
@@ -92,6 +141,12 @@ bool hasMismatches(const nlohmann::json& record) {
 
 LoadedStructure::LoadedStructure(const std::string& structurePath, const MapOptions& map)
     : decoder(loadStructure(structurePath, &header)), scene(openScene(map.scene)) {
+  // The structure remembers its scene (structure file version 2); "" is a structure built from
+  // no scene, which any scene may check.
+  if (!header.sceneHash.empty() && header.sceneHash != scene.hash())
+    throw std::runtime_error(fmt::format(
+        "structure '{}' was built from another scene (hash {}), not from '{}' (hash {})",
+        structurePath, header.sceneHash, map.scene, scene.hash()));
   source = std::make_unique<DepthSource>(scene, sceneLight(scene, map.light), header.map.mode,
                                          header.map.resolution);
 }

@@ -1,8 +1,9 @@
-// What several subcommands share: the map options, parameter assignments, the exit status and
-// the printed summaries of a cell.
+// What several subcommands share: the map options, parameter assignments, the checks of
+// outputs before any work, the exit status and the printed summaries of a cell.
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,9 +35,25 @@ struct MapOptions {
 // --sampled-queries: queries checked above the exhaustive resolution.
 void addSampledQueries(CLI::App* app, uint64_t& sampledQueries);
 
-// "name=value" assignments of --param as Params; throws std::invalid_argument on another form.
+// "name=value" assignments of --param as Params; throws std::invalid_argument on another form
+// and on a name given twice (which value was meant is unknown).
 Params parseParams(const std::vector<std::string>& assignments);
 std::vector<std::string> splitList(const std::string& text);
+
+// Refuses, before any work, an output that would destroy something or fail only at the end: a
+// path ending in '/', an existing file that is not a regular one (device node, FIFO, folder),
+// one of `inputs` (the same file by fs::equivalent, however spelt), or a folder where no file
+// can be created. Creates the output's folder. Throws std::runtime_error naming the path.
+void checkOutputFile(const std::filesystem::path& output,
+                     const std::vector<std::filesystem::path>& inputs);
+
+// Creates `folder` and checks that a file can be created in it (a throwaway file, removed);
+// throws std::runtime_error naming the folder and the reason.
+void checkWritableFolder(const std::filesystem::path& folder);
+
+// Flushes standard output; throws "cannot write standard output: <reason>" if that or an
+// earlier write to it failed: output lost is a failed run (issue 11 A3).
+void flushStandardOutput();
 
 void printVerification(const nlohmann::json& verification);
 void printCellSummary(const nlohmann::json& record);

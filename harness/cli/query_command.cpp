@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "harness/cli/commands.h"
+#include "harness/cli/options.h"
 #include "schemes/interface/serial.h"
 
 namespace sb::cli {
@@ -27,6 +28,9 @@ void answerQueries(const std::string& structure) {
     float visibility = 0;
     decoder->lookup(std::span(&q, 1), k, std::span(&visibility, 1));
     fmt::print("{}\n", visibility);
+    // Each answer is flushed: a program that writes a query and waits gets its answer, and the
+    // first answer that cannot be written ends the run instead of computing more to lose.
+    flushStandardOutput();
   }
 }
 

@@ -1,5 +1,5 @@
-#include <fstream>
 #include <memory>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -7,6 +7,8 @@
 #include "harness/cli/commands.h"
 #include "harness/cli/options.h"
 #include "harness/scene_export.h"
+#include "scenes/watertight.h"
+#include "schemes/interface/atomic_file.h"
 
 namespace sb::cli {
 
@@ -26,8 +28,8 @@ void printSceneInfo(const MapOptions& o) {
   fmt::print("bounds ({}, {}, {}) – ({}, {}, {})\n", b.min.x, b.min.y, b.min.z, b.max.x, b.max.y,
              b.max.z);
   for (const Mesh& m : scene.meshes)
-    fmt::print("  {:24} {:6} {:>10} triangles\n", m.name, m.closed ? "closed" : "open",
-               m.triangles.size());
+    fmt::print("  {:24} {:6} {:>10} triangles, {}\n", m.name, m.closed ? "closed" : "open",
+               m.triangles.size(), checkWatertight(m).describe());
   for (size_t i = 0; i < scene.lights.size(); ++i)
     fmt::print("  light {}: {}\n", i, sceneLight(scene, uint32_t(i)).describe().dump());
 }
@@ -38,10 +40,11 @@ struct ExportOptions {
 };
 
 void exportScene(const ExportOptions& o) {
+  checkOutputFile(o.output, sceneSourceFiles(o.map.scene));
   const Scene scene = openScene(o.map.scene);
-  std::ofstream out(o.output);
-  if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", o.output));
-  exportLightSpaceObj(scene, sceneLight(scene, o.map.light), out);
+  std::ostringstream obj;
+  exportLightSpaceObj(scene, sceneLight(scene, o.map.light), obj);
+  writeFileAtomically(o.output, obj.view());
   fmt::print("wrote {} ({} triangles in light space)\n", o.output, scene.triangleCount());
 }
 
