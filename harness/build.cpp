@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <tbb/task_arena.h>
 
+#include "harness/machine.h"
 #include "harness/record.h"
 
 namespace sb {

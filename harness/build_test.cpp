@@ -6,6 +6,7 @@
 
 #include "harness/build.h"
 #include "harness/cell.h"
+#include "harness/machine.h"
 #include "harness/record.h"
 
 using namespace sb;

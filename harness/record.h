@@ -12,11 +12,6 @@
 #include "harness/record_type.h"
 #include "schemes/interface/atomic_file.h"
 
-// Until build.cpp, distant_filters.cpp and many_lights.cpp include what they use from these.
-#include "harness/cell_key.h"
-#include "harness/machine.h"
-#include "harness/source_commit.h"
-
 namespace sb {
 
 // JSON as indented text through writeFileAtomically.

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "harness/cell.h"
+#include "harness/cell_key.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/options.h"
 #include "harness/record.h"

@@ -7,9 +7,12 @@
 #include <fmt/format.h>
 
 #include "harness/cell.h"
+#include "harness/cell_key.h"
 #include "harness/cli/commands.h"
 #include "harness/distant_filters.h"
+#include "harness/machine.h"
 #include "harness/record.h"
+#include "harness/source_commit.h"
 #include "harness/table.h"
 
 namespace fs = std::filesystem;

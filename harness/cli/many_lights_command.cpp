@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "harness/cell.h"
+#include "harness/machine.h"
 #include "harness/many_lights/placement.h"
 #include "harness/many_lights/statistics.h"
 #include "harness/progress.h"

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "harness/cell.h"
+#include "harness/cell_key.h"
 #include "harness/record.h"
 
 namespace fs = std::filesystem;

@@ -10,6 +10,7 @@
 #include <tbb/task_arena.h>
 
 #include "harness/cell.h"
+#include "harness/machine.h"
 #include "harness/many_lights/statistics.h"
 #include "harness/progress.h"
 #include "harness/record.h"
