@@ -13,6 +13,7 @@
 
 #include "harness/crossings.h"
 #include "harness/light_space_rasterizer.h"
+#include "harness/resolution.h"
 #include "schemes/interface/lightspace.h"
 #include "schemes/interface/morton.h"
 
@@ -230,9 +231,8 @@ StreamStats streamDualDepth(const DepthSource& source, uint32_t tileSize,
                             const std::function<void(const DualDepthTile&)>& consume,
                             const std::function<void(uint64_t)>& progress) {
   const uint32_t resolution = source.resolution();
-  if (tileSize < 8 || tileSize > resolution || (tileSize & (tileSize - 1)) != 0)
-    throw std::invalid_argument(
-        fmt::format("tile size {} must be a power of two in [8, {}]", tileSize, resolution));
+  if (tileSize == 0) throw std::invalid_argument("tile size 0: pass defaultTileSize(R)");
+  checkTileSize(tileSize, resolution);
   const uint64_t tilesPerSide = resolution / tileSize, tileCount = tilesPerSide * tilesPerSide;
   uint64_t next = 0, texelsDone = 0;
   std::atomic<int64_t> traceNanoseconds{0};

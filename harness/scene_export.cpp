@@ -30,7 +30,7 @@ void exportLightSpaceObj(const Scene& scene, const Light& light, std::ostream& o
 
 void writeDualDepthExr(const DepthSource& source, const std::filesystem::path& path) {
   const uint32_t r = source.resolution();
-  if (r > 16384) throw std::invalid_argument("EXR output is limited to 16K² maps");
+  if (r > kMaxExrResolution) throw std::invalid_argument("EXR output is limited to 16K² maps");
   std::vector<float> lo(size_t(r) * r), hi(size_t(r) * r);
   streamDualDepth(source, defaultTileSize(r), [&](const DualDepthTile& tile) {
     for (uint32_t row = 0; row < tile.height; ++row)

@@ -15,7 +15,10 @@ namespace sb {
 // linear spot lights the depth of a texel is exactly the first hit on these triangles.
 void exportLightSpaceObj(const Scene& scene, const Light& light, std::ostream& out);
 
-// The whole dual depth map as a two-channel float EXR ("lo", "hi"); R ≤ 16K.
+// The largest map writeDualDepthExr writes: both channels are in memory at once.
+inline constexpr uint32_t kMaxExrResolution = 16384;
+
+// The whole dual depth map as a two-channel float EXR ("lo", "hi"); R ≤ kMaxExrResolution.
 void writeDualDepthExr(const DepthSource& source, const std::filesystem::path& path);
 
 }  // namespace sb

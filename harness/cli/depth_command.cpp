@@ -18,9 +18,6 @@ struct DepthOptions {
   bool rayCast = false;
 };
 
-// The largest map writeDualDepthExr writes: both channels in memory at once.
-constexpr uint32_t kMaxExrResolution = 16384;
-
 void streamDepth(const DepthOptions& o) {
   // Checked before the depth pass, which at the sizes refused here takes minutes (issue 11 A9).
   const DepthMode mode = depthModeFromString(o.map.mode);
