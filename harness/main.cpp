@@ -20,6 +20,10 @@
 #include "harness/table.h"
 #include "schemes/interface/serial.h"
 
+namespace sb {
+void addSoakCommand(CLI::App& app);
+}
+
 namespace fs = std::filesystem;
 using namespace sb;
 
@@ -429,6 +433,7 @@ int main(int argc, char** argv) {
 
   addManyLightsCommand(app);
   addDistantFiltersCommand(app);
+  addSoakCommand(app);
 
   try {
     app.parse(argc, argv);
