@@ -178,8 +178,9 @@ class TileChecker {
     const auto [yFirst, yLast] = centreRange(tile_.y0, tile_.height, k);
     const int64_t i = randomIn(xFirst, xLast, random), j = randomIn(yFirst, yLast, random);
     const uint64_t r = nextRandom(random);
-    const float x = coordinateIn(i, map_.resolution, placementOf(r), unitFloat(r >> 8));
-    const float y = coordinateIn(j, map_.resolution, placementOf(r >> 2), unitFloat(r >> 32 << 8));
+    const float x = coordinateIn(i, map_.resolution, placementOf(r), unitFloat(nextRandom(random)));
+    const float y =
+        coordinateIn(j, map_.resolution, placementOf(r >> 2), unitFloat(nextRandom(random)));
     const DepthInterval centre = intervals_(i, j);
     float z = unitFloat(nextRandom(random));
     switch ((r >> 4) % 4) {
@@ -293,13 +294,21 @@ SoakState newSoakState(const nlohmann::json& structure, const MapInfo& map,
 
 SoakState resumeSoakState(const nlohmann::json& saved, const SoakState& fresh) {
   SoakState state = SoakState::fromJson(saved);
-  for (const auto& [key, value] : fresh.identity.items())
-    if (!state.identity.contains(key) || state.identity[key] != value)
-      throw std::runtime_error(fmt::format(
-          "the soak state is of another run: its {} is {}, this run's is {}", key,
-          state.identity.contains(key) ? state.identity[key].dump() : "missing", value.dump()));
-  if (state.identity.size() != fresh.identity.size() || state.tilesTotal != fresh.tilesTotal)
-    throw std::runtime_error("the soak state is of another run: its identity has other fields");
+  // Flattened, so that the error names the innermost field ("/structure/scene_hash").
+  const nlohmann::json ours = fresh.identity.flatten(), theirs = state.identity.flatten();
+  for (const auto& [key, value] : ours.items())
+    if (!theirs.contains(key) || theirs[key] != value)
+      throw std::runtime_error(
+          fmt::format("the soak state is of another run: its {} is {}, this run's is {}", key,
+                      theirs.contains(key) ? theirs[key].dump() : "missing", value.dump()));
+  for (const auto& [key, value] : theirs.items())
+    if (!ours.contains(key))
+      throw std::runtime_error(
+          fmt::format("the soak state is of another run: it has {}, this run has not", key));
+  if (state.tilesTotal != fresh.tilesTotal)
+    throw std::runtime_error(
+        fmt::format("the soak state is of another run: it has {} tiles, this run {}",
+                    state.tilesTotal, fresh.tilesTotal));
   return state;
 }
 
