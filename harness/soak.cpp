@@ -7,9 +7,11 @@
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "harness/reference.h"
 #include "schemes/interface/lightspace.h"
+#include "schemes/interface/morton.h"
 #include "schemes/interface/splitmix.h"
 
 namespace sb {
@@ -320,33 +322,42 @@ void soak(const Decoder& decoder, SchemeKind kind, const MapInfo& map, const Dep
   const uint32_t tilesPerSide = map.resolution / options.tileSize;
   if (state.tilesTotal != uint64_t(tilesPerSide) * tilesPerSide)
     throw std::invalid_argument("soak: the state is not of these options");
-  if (state.finished()) return;
   const uint64_t batches =
       std::max<uint64_t>(1, (options.queriesPerTile + kSoakBatchQueries - 1) / kSoakBatchQueries);
   const auto start = std::chrono::steady_clock::now();
   const double secondsBefore = state.seconds;
-  uint64_t tileIndex = 0;
-  // Done tiles are traced again and skipped: streaming keeps the reference's tiles exactly
-  // those of a build (DESIGN §3), and tracing is a small part of a soak.
-  streamDualDepth(source, options.tileSize, [&](const DualDepthTile& tile) {
-    const uint64_t t = tileIndex++;
-    if (t < state.tilesDone) return;
-    const TileChecker checker(decoder, kind, map, tile);
-    std::vector<BatchResult> results(batches);
-    tbb::parallel_for(uint64_t(0), batches, [&](uint64_t b) {
-      results[b] = checker.check(b, mixBits(options.seed ^ mixBits(t ^ mixBits(b))));
+  // A few tiles traced in parallel, then checked in Morton order: done tiles are never traced
+  // again, and a stop (an exception from tileDone) leaves nothing in flight. A tile's intervals
+  // are those of a build's stream whatever the order of tracing (DESIGN §3, depth_source.h).
+  const size_t inFlight = size_t(tbb::this_task_arena::max_concurrency());
+  std::vector<DualDepthTile> tiles(inFlight);
+  while (!state.finished()) {
+    const uint64_t first = state.tilesDone;
+    const uint64_t count = std::min<uint64_t>(inFlight, state.tilesTotal - first);
+    tbb::parallel_for(uint64_t(0), count, [&](uint64_t n) {
+      source.trace(mortonX(first + n) * options.tileSize, mortonY(first + n) * options.tileSize,
+                   options.tileSize, options.tileSize, tiles[n]);
     });
-    for (BatchResult& r : results) {
-      state.report.queries += r.queries;
-      state.report.mismatches += r.mismatches;
-      for (const Mismatch& m : r.examples)
-        if (state.report.examples.size() < kSoakMaxExamples) state.report.examples.push_back(m);
+    for (uint64_t n = 0; n < count; ++n) {
+      const uint64_t t = first + n;
+      const TileChecker checker(decoder, kind, map, tiles[n]);
+      std::vector<BatchResult> results(batches);
+      tbb::parallel_for(uint64_t(0), batches, [&](uint64_t b) {
+        results[b] = checker.check(b, mixBits(options.seed ^ mixBits(t ^ mixBits(b))));
+      });
+      for (BatchResult& r : results) {
+        state.report.queries += r.queries;
+        state.report.mismatches += r.mismatches;
+        for (const Mismatch& m : r.examples)
+          if (state.report.examples.size() < kSoakMaxExamples) state.report.examples.push_back(m);
+      }
+      state.tilesDone = t + 1;
+      state.seconds =
+          secondsBefore +
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (tileDone) tileDone(state);
     }
-    state.tilesDone = t + 1;
-    state.seconds = secondsBefore +
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (tileDone) tileDone(state);
-  });
+  }
 }
 
 }  // namespace sb

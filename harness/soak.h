@@ -2,10 +2,10 @@
 // and PCF kernels in every tile of a large map — checked against the reference by the same
 // acceptance rule (DESIGN §4, §5), resumable tile by tile.
 //
-// The dual depth map is streamed once, tile by tile (DESIGN §3); each tile's queries are answered
-// by the decoder and judged against that tile's own intervals, so the reference costs one depth
-// pass however many queries are checked. PCF kernels are centred so that every tap inside the
-// map falls inside the tile (taps outside the map are lit).
+// The dual depth map is traced once, tile by tile in Morton order (DESIGN §3); each tile's
+// queries are answered by the decoder and judged against that tile's own intervals, so the
+// reference costs one depth pass however many queries are checked. PCF kernels are centred so that
+// every tap inside the map falls inside the tile (taps outside the map are lit).
 #pragma once
 
 #include <cstdint>
