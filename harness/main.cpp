@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
   sb::cli::addTableCommand(app);
   sb::addManyLightsCommand(app);
   sb::cli::addDistantFiltersCommand(app);
+  sb::cli::addSoakCommand(app);
 
   try {
     try {

@@ -23,23 +23,4 @@ ReferenceWindow::ReferenceWindow(const DepthSource& source, int64_t x0, int64_t 
     }
 }
 
-VisibilityRange ReferenceWindow::pcf(int64_t ci, int64_t cj, int k, float z,
-                                     uint32_t resolution) const {
-  const int64_t radius = k / 2;
-  int lit = 0, undefined = 0;
-  for (int64_t j = cj - radius; j <= cj + radius; ++j)
-    for (int64_t i = ci - radius; i <= ci + radius; ++i) {
-      if (!insideMap(i, j, resolution)) {
-        ++lit;
-        continue;
-      }
-      if (!contains(i, j)) throw std::logic_error("PCF tap outside the reference window");
-      const PointAnswer answer = pointTest(at(i, j), z);
-      lit += answer == PointAnswer::Lit;
-      undefined += answer == PointAnswer::Undefined;
-    }
-  const float taps = float(k * k);
-  return {float(lit) / taps, float(lit + undefined) / taps};
-}
-
 }  // namespace sb

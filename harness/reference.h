@@ -48,10 +48,6 @@ class ReferenceWindow {
   int64_t x1() const { return x1_; }
   int64_t y1() const { return y1_; }
 
-  // PCF bounds over the k×k taps centred on (ci, cj) at tested depth z; taps outside the map
-  // are lit. Every tap inside the map must lie inside the window.
-  VisibilityRange pcf(int64_t ci, int64_t cj, int k, float z, uint32_t resolution) const;
-
  private:
   int64_t x0_, y0_, x1_, y1_;
   std::vector<DepthInterval> intervals_;

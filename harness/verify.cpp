@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <stdexcept>
 
 #include <tbb/parallel_for.h>
 
@@ -89,6 +90,10 @@ struct Checker {
   template <class Select, class PcfSelect>
   void checkWindow(const ReferenceWindow& window, int64_t cx, int64_t cy, Select select,
                    PcfSelect pcf, uint64_t seed) {
+    const auto tap = [&](int64_t i, int64_t j) {
+      if (!window.contains(i, j)) throw std::logic_error("PCF tap outside the reference window");
+      return window.at(i, j);
+    };
     Batch batches[std::size(kStandardFilters)];
     const int64_t x1 = std::min<int64_t>(cx + kCore, map.resolution);
     const int64_t y1 = std::min<int64_t>(cy + kCore, map.resolution);
@@ -101,12 +106,8 @@ struct Checker {
         float depths[7];
         const int n = probeDepths(window.at(i, j), depths);
         for (int d = 0; d < n; ++d) {
-          const float z = testedDepth(kind, map, depths[d]);
-          const PointAnswer answer = pointTest(window.at(i, j), z);
           batches[0].queries.push_back({at.x, at.y, depths[d]});
-          batches[0].expected.push_back(answer == PointAnswer::Lit        ? VisibilityRange{1, 1}
-                                        : answer == PointAnswer::Shadowed ? VisibilityRange{0, 0}
-                                                                          : VisibilityRange{0, 1});
+          batches[0].expected.push_back(acceptedRange(kind, map, i, j, 1, depths[d], tap));
         }
         for (size_t f = 1; f < std::size(kStandardFilters); ++f) {
           if (!pcf(h, kStandardFilters[f])) continue;
@@ -116,7 +117,7 @@ struct Checker {
           for (float z : pcfDepths) {
             batches[f].queries.push_back({at.x, at.y, z});
             batches[f].expected.push_back(
-                window.pcf(i, j, kStandardFilters[f], testedDepth(kind, map, z), map.resolution));
+                acceptedRange(kind, map, i, j, kStandardFilters[f], z, tap));
           }
         }
       }

@@ -35,6 +35,31 @@ struct VerifyOptions {
   uint64_t seed = 1;
 };
 
+// The range a correct answer to a k×k query at depth z centred on texel (ci, cj) must lie in
+// (DESIGN §4, §5): [lit_defined/k², (lit_defined+undefined)/k²] over the taps, each tap's point
+// test taken at the depth a scheme of `kind` tests; taps outside the map are lit. k = 1 is the
+// point test: {1, 1} lit, {0, 0} shadowed, {0, 1} undefined. `intervalAt(i, j)` is the
+// reference interval of a tap inside the map.
+template <class IntervalAt>
+VisibilityRange acceptedRange(SchemeKind kind, const MapInfo& map, int64_t ci, int64_t cj, int k,
+                              float z, IntervalAt&& intervalAt) {
+  const float tested = testedDepth(kind, map, z);
+  const int64_t radius = k / 2;
+  int lit = 0, undefined = 0;
+  for (int64_t j = cj - radius; j <= cj + radius; ++j)
+    for (int64_t i = ci - radius; i <= ci + radius; ++i) {
+      if (!insideMap(i, j, map.resolution)) {
+        ++lit;
+        continue;
+      }
+      const PointAnswer answer = pointTest(intervalAt(i, j), tested);
+      lit += answer == PointAnswer::Lit;
+      undefined += answer == PointAnswer::Undefined;
+    }
+  const float taps = float(k * k);
+  return {float(lit) / taps, float(lit + undefined) / taps};
+}
+
 // Checks `decoder` (a structure for `map`) against the reference re-traced from `source`,
 // which must describe the same scene, light, mode and resolution. Never throws on a wrong
 // answer: mismatches are counted and the caller decides.

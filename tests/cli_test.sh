@@ -39,6 +39,12 @@ set +e
 "$sb" verify "$work/city.sb" --scene terrain > /dev/null 2> "$work/err.txt"; rc=$?
 set -e
 [ $rc -eq 2 ] && grep -q "built from another scene" "$work/err.txt" || fail "verify with another scene: rc $rc, $(cat "$work/err.txt")"
+# The soak checks a saved structure tile by tile and resumes only a state of the same run.
+"$sb" soak "$work/city.sb" --scene city --queries 1e5 --tile 32 --state "$work/soak.state" --json "$work/soak.json" | grep -q ", 0 mismatches" || fail "soak of a saved structure"
+set +e
+"$sb" soak "$work/city.sb" --scene city --queries 1e5 --tile 32 --seed 2 --state "$work/soak.state" > /dev/null 2> "$work/err.txt"; rc=$?
+set -e
+[ $rc -eq 2 ] && grep -q "seed" "$work/err.txt" || fail "soak state of another run: rc $rc, $(cat "$work/err.txt")"
 # `scene info` says whether each mesh is watertight.
 "$sb" scene info --scene city | grep -q "watertight" || fail "scene info reports no watertightness"
 

@@ -16,5 +16,6 @@ void addBenchCommand(CLI::App& app);
 void addSweepCommand(CLI::App& app);
 void addTableCommand(CLI::App& app);
 void addDistantFiltersCommand(CLI::App& app);
+void addSoakCommand(CLI::App& app);
 
 }  // namespace sb::cli
