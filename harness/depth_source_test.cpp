@@ -232,3 +232,19 @@ TEST_CASE("rasterised and ray-cast dual depth maps agree", "[depth][raster]") {
       CHECK(raster.closedFallbacks() <= rays.closedFallbacks());
     }
 }
+
+TEST_CASE("an encoder that throws stops the stream, and the tiles in flight are freed",
+          "[depth][regression]") {
+  // A consume that threw used to cancel the TBB pipeline with tiles still in it, which oneTBB
+  // never destroys: LeakSanitizer reported them (found by the soak work, issue 11).
+  const Scene scene = sceneOf({boxMesh("box", {-1, -1, 0}, {1, 1, 1}, true)});
+  const DepthSource source(scene, Light::fit(scene.lights[0], scene), DepthMode::Closed,
+                           kResolution);
+  int consumed = 0;
+  CHECK_THROWS_WITH(streamDualDepth(source, 8,
+                                    [&](const DualDepthTile&) {
+                                      if (++consumed == 3) throw std::runtime_error("encoder full");
+                                    }),
+                    "encoder full");
+  CHECK(consumed == 3);  // nothing was handed on after the failure
+}
