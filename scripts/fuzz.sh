@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# A time-boxed fuzzing campaign (issue 11): builds the libFuzzer targets of fuzz/ in build-fuzz/
+# (clang, ASan + UBSan) and runs each in turn from its seeds in fuzz/corpus/<target>/.
+#   scripts/fuzz.sh [SECONDS]   SECONDS per target, default 60
+# Inputs that add coverage go to build-fuzz/corpus/<target>/, a crashing input (crash, sanitizer
+# report, out of memory above 2 GiB, 10 s on one input) to build-fuzz/crashes/<target>/ and the
+# run's log to build-fuzz/logs/<target>.log. Exits 1 when any target crashed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+build=build-fuzz
+
+launcher=()
+if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+mkdir -p "$build/logs"
+if ! CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DSHADOWBENCH_FUZZ=ON "${launcher[@]}" >"$build/logs/configure.log" 2>&1; then
+  cat "$build/logs/configure.log" >&2
+  exit 1
+fi
+cmake --build "$build" -j "$(nproc)" --target fuzz_structure_file fuzz_scheme_payload \
+  fuzz_scene_file fuzz_model_file fuzz_query_line >/dev/null
+export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
+
+failed=()
+# fuzz TARGET BINARY [VAR=value…]: one time-boxed run, its summary on one line.
+fuzz() {
+  local target=$1 binary=$2
+  shift 2
+  mkdir -p "$build/corpus/$target" "$build/crashes/$target"
+  local log="$build/logs/$target.log" status=0
+  env "$@" "$build/fuzz/$binary" "$build/corpus/$target" "fuzz/corpus/$target" \
+    -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 \
+    -artifact_prefix="$build/crashes/$target/" >"$log" 2>&1 || status=$?
+  local executions rate coverage
+  executions=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
+  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log")
+  coverage=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 | cut -d' ' -f2)
+  printf '%-24s %10s runs %8s/s  cov %6s  ' "$target" "${executions:-?}" "${rate:-?}" \
+    "${coverage:-?}"
+  if [ "$status" -eq 0 ]; then
+    echo ok
+  else
+    echo "CRASH (exit $status): $(grep -m1 -E '^(==[0-9]+==ERROR|SUMMARY)' "$log" || true); see $log"
+    failed+=("$target")
+  fi
+}
+
+fuzz structure_file fuzz_structure_file
+# Every registered scheme has a golden file (interface_test checks it), hence a payload target.
+for golden in tests/golden/*.sb; do
+  scheme=$(basename "$golden" .sb)
+  fuzz "payload-$scheme" fuzz_scheme_payload SHADOWBENCH_FUZZ_SCHEME="$scheme"
+done
+fuzz scene_file fuzz_scene_file
+fuzz model_file fuzz_model_file
+fuzz query_line fuzz_query_line
+
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "fuzz: crashes in ${failed[*]} (inputs in $build/crashes/)" >&2
+  exit 1
+fi
