@@ -32,6 +32,13 @@ printf '0.5 0.5 1.0\n\n2 2 0.5 9\n0.5 0.5 0.0 3\n' | "$sb" query "$work/city.sb"
 [ "$(sed -n 2p "$work/answers.txt")" = "1" ] || fail "a query outside the map is not lit"
 [ "$(sed -n 3p "$work/answers.txt")" = "1" ] || fail "a query at depth 0 is not lit"
 [ "$(wc -l < "$work/answers.txt")" -eq 3 ] || fail "blank query lines must be skipped"
+# A line is answered only if it is exactly `x y z [k]`; anything else names its line.
+for bad in "0.5 0.5 0.3 9 junk" "0.5 0.5 0.3 9.7" "0.5 0.5 0.3abc"; do
+  set +e
+  printf '0.5 0.5 0.3\n%s\n' "$bad" | "$sb" query "$work/city.sb" > /dev/null 2> "$work/err.txt"; rc=$?
+  set -e
+  [ $rc -eq 2 ] && grep -q "query line 2" "$work/err.txt" || fail "query '$bad': rc $rc, $(cat "$work/err.txt")"
+done
 
 "$sb" verify "$work/city.sb" --scene city | grep -q "0 mismatches" || fail "verify of a saved structure"
 # The structure remembers its scene: verifying against another names that, not mismatches.

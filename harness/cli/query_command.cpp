@@ -1,11 +1,12 @@
 #include <iostream>
 #include <memory>
-#include <sstream>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "harness/cli/commands.h"
 #include "harness/cli/options.h"
+#include "harness/query_line.h"
 #include "schemes/interface/serial.h"
 
 namespace sb::cli {
@@ -16,17 +17,10 @@ void answerQueries(const std::string& structure) {
   const auto decoder = loadStructure(structure, nullptr);
   std::string line;
   for (uint64_t number = 1; std::getline(std::cin, line); ++number) {
-    std::istringstream in(line);
-    Query q{};
-    int k = 1;
-    if (!(in >> q.x >> q.y >> q.z)) {
-      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-      throw std::invalid_argument(
-          fmt::format("query line {}: expected 'x y z [k]', got '{}'", number, line));
-    }
-    in >> k;
+    const std::optional<QueryLine> parsed = parseQueryLine(line, number);
+    if (!parsed) continue;
     float visibility = 0;
-    decoder->lookup(std::span(&q, 1), k, std::span(&visibility, 1));
+    decoder->lookup(std::span(&parsed->query, 1), parsed->filter, std::span(&visibility, 1));
     fmt::print("{}\n", visibility);
     // Each answer is flushed: a program that writes a query and waits gets its answer, and the
     // first answer that cannot be written ends the run instead of computing more to lose.
