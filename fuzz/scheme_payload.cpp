@@ -37,7 +37,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
     const sb::SchemeInfo& scheme = sb::findScheme(name ? name : "");
     constexpr uint32_t kResolution = 8;
     header = {scheme.name,
-              scheme.resolve({}),
+              scheme.resolve({}).text(),
               {kResolution, scheme.kind == sb::SchemeKind::Voxel ? kResolution : 0,
                sb::DepthMode::Closed}};
   } catch (const std::invalid_argument& error) {
