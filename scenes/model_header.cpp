@@ -55,10 +55,17 @@ std::string lowerExtension(const fs::path& path) {
   return ext;
 }
 
+// A PLY property: a scalar of `bytes`, or a list of them whose length is a `countBytes` integer.
+struct PlyProperty {
+  uint64_t bytes = 0;
+  uint64_t countBytes = 0;  // 0 for a scalar
+};
+
 struct Element {
   std::string name;
   uint64_t count = 0;
-  uint64_t minItemBytes = 0;  // the smallest encoding of one item in the file
+  uint64_t minItemBytes = 0;            // the smallest encoding of one item in the file
+  std::vector<PlyProperty> properties;  // PLY only
 };
 
 // Refuses the file when its elements need more than the `available` bytes after the header.
@@ -81,16 +88,66 @@ SceneFootprint footprintOf(uint64_t vertices, uint64_t faces) {
   return {vertices, faces, vertices * kBytesPerVertex + faces * kBytesPerFace};
 }
 
-// PLY (Turk 1994): "ply", "format ascii|binary_* 1.0", then "element <name> <count>" each
-// followed by its "property <type> <name>" or "property list <count type> <index type> <name>"
-// lines, up to "end_header".
-std::optional<SceneFootprint> plyFootprint(const fs::path& path, uint64_t fileSize,
-                                           const std::string& prefix) {
-  const std::string text = head(path, 1 << 16);
-  const size_t end = text.find("end_header");
-  if (text.compare(0, 3, "ply") != 0 || end == std::string::npos) return std::nullopt;
-  const size_t body = text.find('\n', end);
-  if (body == std::string::npos) return std::nullopt;
+// Assimp 5.2 aborts the process (an assertion in its TriangulateProcess) on a face whose index
+// list is empty: the face lists are read once here and such a file is refused. A body cut short
+// is left to Assimp, which reports it.
+void checkPlyFaceLists(const fs::path& path, size_t body, bool ascii,
+                       const std::vector<Element>& elements, const std::string& prefix) {
+  const bool anyList = std::any_of(elements.begin(), elements.end(), [](const Element& e) {
+    return e.name == "face" && std::any_of(e.properties.begin(), e.properties.end(),
+                                           [](const PlyProperty& p) { return p.countBytes; });
+  });
+  if (!anyList) return;
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(body));
+  // Only the lengths are read; the format's byte order matters for them alone, and a length
+  // of zero reads as zero either way.
+  const auto readLength = [&](uint64_t bytes) -> std::optional<uint64_t> {
+    if (ascii) {
+      std::string token;
+      if (!(in >> token)) return std::nullopt;
+      return parseCount(token).value_or(1);  // a malformed length is Assimp's to report
+    }
+    uint8_t raw[8] = {};
+    if (!in.read(reinterpret_cast<char*>(raw), static_cast<std::streamsize>(bytes)))
+      return std::nullopt;
+    uint64_t length = 0;
+    for (uint64_t b = 0; b < bytes; ++b) length |= raw[b];  // zero exactly when all bytes are
+    return length;
+  };
+  const auto skip = [&](uint64_t values, uint64_t bytes) {
+    if (!ascii) return bool(in.ignore(static_cast<std::streamsize>(values * bytes)));
+    std::string token;
+    for (uint64_t v = 0; v < values; ++v)
+      if (!(in >> token)) return false;
+    return true;
+  };
+  for (const Element& e : elements)
+    for (uint64_t item = 0; item < e.count; ++item)
+      for (const PlyProperty& p : e.properties) {
+        if (!p.countBytes) {
+          if (!skip(1, p.bytes)) return;
+          continue;
+        }
+        const std::optional<uint64_t> length = readLength(p.countBytes);
+        if (!length) return;
+        if (*length == 0 && e.name == "face")
+          throw SceneError(fmt::format("{}: face {} has no vertex index", prefix, item));
+        if (!skip(*length, p.bytes)) return;
+      }
+}
+
+// PLY (Turk 1994): "ply", "format ascii|binary_little_endian|binary_big_endian 1.0", then
+// "element <name> <count>" each followed by its "property <type> <name>" or "property list
+// <count type> <index type> <name>" lines, "comment" and "obj_info" lines anywhere, up to
+// "end_header". Anything else is refused here: Assimp 5.2's PLY reader hangs on a header without
+// "end_header" and crashes on a malformed "format" line (found by fuzzing, fuzz/regressions/).
+SceneFootprint plyFootprint(const fs::path& path, uint64_t fileSize, const std::string& prefix) {
+  constexpr size_t kMaxHeader = 1 << 16;
+  const std::string text = head(path, kMaxHeader);
+  const auto refuse = [&](const std::string& why) -> SceneFootprint {
+    throw SceneError(fmt::format("{}: not a PLY file this reader accepts: {}", prefix, why));
+  };
   auto typeBytes = [](std::string_view type) -> uint64_t {
     for (std::string_view t : {"char", "uchar", "int8", "uint8"})
       if (type == t) return 1;
@@ -104,32 +161,58 @@ std::optional<SceneFootprint> plyFootprint(const fs::path& path, uint64_t fileSi
   };
   bool ascii = false, formatSeen = false;
   std::vector<Element> elements;
-  for (size_t at = 0; at < end;) {
-    const size_t lineEnd = std::min(text.find('\n', at), end);
-    const std::vector<std::string_view> w = words(std::string_view(text).substr(at, lineEnd - at));
-    at = lineEnd + 1;
-    if (w.empty()) continue;
-    if (w[0] == "format" && w.size() >= 2) {
+  size_t body = std::string::npos;  // the first byte after the header
+  for (size_t at = 0, number = 1; at < text.size(); ++number) {
+    const size_t newline = text.find('\n', at);
+    if (newline == std::string::npos) break;
+    const std::vector<std::string_view> w = words(std::string_view(text).substr(at, newline - at));
+    at = newline + 1;
+    const std::string where = fmt::format("header line {}", number);
+    if (number == 1) {
+      if (w.size() != 1 || w[0] != "ply") refuse("the first line is not 'ply'");
+      continue;
+    }
+    if (w.empty()) refuse(where + " is empty");
+    if (w[0] == "end_header" && w.size() == 1) {
+      body = at;
+      break;
+    }
+    if (w[0] == "comment" || w[0] == "obj_info") continue;
+    if (w[0] == "format") {
+      if (formatSeen || w.size() != 3 || w[2] != "1.0" ||
+          (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian"))
+        refuse(where +
+               ": the format must be given once, as ascii, binary_little_endian or "
+               "binary_big_endian 1.0");
       formatSeen = true;
       ascii = w[1] == "ascii";
     } else if (w[0] == "element" && w.size() == 3) {
       const std::optional<uint64_t> count = parseCount(w[2]);
-      if (!count) return std::nullopt;
-      elements.push_back({std::string(w[1]), *count, 0});
+      if (!count) refuse(where + ": the element count is not a number");
+      elements.push_back({std::string(w[1]), *count, 0, {}});
     } else if (w[0] == "property" && !elements.empty()) {
       // A list may be empty: its smallest encoding is its count alone. In ASCII every value
       // takes at least a digit and a separator.
       const bool list = w.size() == 5 && w[1] == "list";
-      if (!list && w.size() != 3) return std::nullopt;
+      if (!list && w.size() != 3) refuse(where + ": a property is 'property <type> <name>'");
       const uint64_t bytes = typeBytes(w[1 + list]);
-      if (bytes == 0 || (list && typeBytes(w[3]) == 0)) return std::nullopt;
+      const uint64_t itemBytes = list ? typeBytes(w[3]) : bytes;
+      if (bytes == 0 || itemBytes == 0) refuse(where + ": unknown property type");
+      if (list && (w[2].find("float") != std::string_view::npos || w[2] == "double"))
+        refuse(where + ": a list's length must be an integer type");
       elements.back().minItemBytes += ascii ? 2 : bytes;
+      elements.back().properties.push_back({itemBytes, list ? bytes : 0});
+    } else {
+      refuse(where + " is not a format, element, property or comment line");
     }
   }
-  if (!formatSeen) return std::nullopt;
-  uint64_t afterHeader = fileSize - std::min<uint64_t>(body + 1, fileSize);
+  if (body == std::string::npos)
+    refuse(fmt::format("no 'end_header' line in its first {} bytes", kMaxHeader));
+  if (!formatSeen) refuse("no 'format' line");
+  uint64_t afterHeader = fileSize - std::min<uint64_t>(body, fileSize);
   if (ascii) ++afterHeader;  // the last value needs no separator
   checkElementsFit(elements, afterHeader, fileSize, prefix);
+  checkPlyFaceLists(path, body, ascii, elements, prefix);
   uint64_t vertices = 0, faces = 0;
   for (const Element& e : elements) {
     if (e.name == "vertex") vertices = e.count;
@@ -160,7 +243,8 @@ std::optional<SceneFootprint> offFootprint(const fs::path& path, uint64_t fileSi
   const std::optional<uint64_t> vertices = parseCount(tokens[1]), faces = parseCount(tokens[2]);
   if (!vertices || !faces) return std::nullopt;
   const uint64_t afterHeader = fileSize - std::min<uint64_t>(at, fileSize) + 1;
-  checkElementsFit({{"vertex", *vertices, 6}, {"face", *faces, 2}}, afterHeader, fileSize, prefix);
+  checkElementsFit({{"vertex", *vertices, 6, {}}, {"face", *faces, 2, {}}}, afterHeader, fileSize,
+                   prefix);
   return footprintOf(*vertices, *faces);
 }
 
@@ -189,7 +273,9 @@ std::optional<SceneFootprint> stlFootprint(const fs::path& path, uint64_t fileSi
 std::optional<SceneFootprint> declaredFootprint(const fs::path& path, uint64_t fileSize,
                                                 const std::string& prefix) {
   const std::string ext = lowerExtension(path);
-  if (ext == ".ply") return plyFootprint(path, fileSize, prefix);
+  // Assimp recognises a PLY file by its first bytes whatever its name.
+  if (ext == ".ply" || head(path, 4) == "ply\n" || head(path, 5) == "ply\r\n")
+    return plyFootprint(path, fileSize, prefix);
   if (ext == ".off") return offFootprint(path, fileSize, prefix);
   if (ext == ".stl") return stlFootprint(path, fileSize, prefix);
   return std::nullopt;

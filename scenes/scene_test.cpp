@@ -810,3 +810,37 @@ TEST_CASE("a spot light's fov is checked against the range the harness accepts",
   CHECK(sb::isValidSpotFov(178.99f));
   CHECK_FALSE(sb::isValidSpotFov(sb::kMaxSpotFovDegrees));
 }
+
+TEST_CASE("PLY files that crash or hang Assimp are refused before it reads them",
+          "[scenes][errors][regression]") {
+  // Found by fuzzing (fuzz/regressions/model_file/): Assimp 5.2 loops forever on a header with
+  // no end_header, segfaults on a cut "format" line and aborts on a face with no index.
+  TempDir dir;
+  const auto refusal = [&](const std::string& name, const std::string& contents) {
+    const fs::path path = dir.write(name, contents);
+    return sceneErrorOf([&] { sb::openScene(path.string()); });
+  };
+  CHECK_THAT(refusal("no_end.ply", "ply\nformat ascii 1.0\n"), Catch::Contains("no 'end_header'"));
+  CHECK_THAT(refusal("cut.ply", std::string("ply\nformat binary_\0\0an\xff", 24)),
+             Catch::Contains("not a PLY file"));
+  CHECK_THAT(refusal("format.ply", "ply\nformat binary_\nelement vertex 0\nend_header\n"),
+             Catch::Contains("header line 2"));
+  CHECK_THAT(refusal("junk.ply", "ply\nformat ascii 1.0\nhello\nend_header\n"),
+             Catch::Contains("header line 3"));
+  // Read as PLY by its first bytes, whatever its name.
+  CHECK_THAT(refusal("named.obj", "ply\nformat ascii 1.0\n"), Catch::Contains("no 'end_header'"));
+
+  const std::string header =
+      "ply\nformat {} 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n";
+  auto withFormat = [&](const std::string& format) {
+    std::string text = header;
+    return text.replace(text.find("{}"), 2, format);
+  };
+  CHECK_THAT(refusal("empty_face.ply", withFormat("ascii") + "0 0 0\n1 0 0\n1 1 0\n3 0 1 2\n0\n"),
+             Catch::Contains("face 1 has no vertex index"));
+  std::string binary = withFormat("binary_little_endian") + std::string(36, '\0');
+  binary += std::string("\x03\0\0\0\0\x01\0\0\0\x02\0\0\0", 13) + std::string(1, '\0');
+  CHECK_THAT(refusal("empty_face_binary.ply", binary),
+             Catch::Contains("face 1 has no vertex index"));
+}
