@@ -39,7 +39,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
     header = {scheme.name,
               scheme.resolve({}).text(),
               {kResolution, scheme.kind == sb::SchemeKind::Voxel ? kResolution : 0,
-               sb::DepthMode::Closed}};
+               sb::DepthMode::Closed},
+              ""};
   } catch (const std::invalid_argument& error) {
     std::fprintf(stderr, "SHADOWBENCH_FUZZ_SCHEME: %s\n", error.what());
     std::exit(2);

@@ -15,6 +15,13 @@
 
 namespace sb {
 
+Light sceneLight(const Scene& scene, uint32_t index) {
+  if (index >= scene.lights.size())
+    throw std::invalid_argument(fmt::format("scene '{}' has {} light(s); light {} does not exist",
+                                            scene.name, scene.lights.size(), index));
+  return Light::fit(scene.lights[index], scene);
+}
+
 namespace {
 
 std::string utcNow() {
@@ -26,17 +33,9 @@ std::string utcNow() {
   return text;
 }
 
-}  // namespace
-
-Light sceneLight(const Scene& scene, uint32_t index) {
-  if (index >= scene.lights.size())
-    throw std::invalid_argument(fmt::format("scene '{}' has {} light(s); light {} does not exist",
-                                            scene.name, scene.lights.size(), index));
-  return Light::fit(scene.lights[index], scene);
-}
-
-Record cellIdentity(const CellSpec& cell, const Scene& scene) {
-  const SchemeInfo& scheme = findScheme(cell.scheme);
+// The identity of a cell whose parameters are already resolved.
+Record identityOf(const CellSpec& cell, const Scene& scene, const SchemeInfo& scheme,
+                  const ParamValues& values) {
   Record record;
   record.scene = {scene.name, cell.sceneSpec, scene.triangleCount(), scene.hash()};
   record.lightIndex = cell.lightIndex;
@@ -44,7 +43,6 @@ Record cellIdentity(const CellSpec& cell, const Scene& scene) {
   record.mode = toString(cell.mode);
   record.scheme.name = scheme.name;
   record.scheme.kind = toString(scheme.kind);
-  const ParamValues values = scheme.resolve(cell.params);
   for (const auto& [name, value] : values.text()) record.scheme.params[name] = value;
   record.scheme.paper = scheme.paper;
   record.resolution = cell.resolution;
@@ -52,12 +50,20 @@ Record cellIdentity(const CellSpec& cell, const Scene& scene) {
   return record;
 }
 
+}  // namespace
+
+Record cellIdentity(const CellSpec& cell, const Scene& scene) {
+  const SchemeInfo& scheme = findScheme(cell.scheme);
+  return identityOf(cell, scene, scheme, scheme.resolve(cell.params));
+}
+
 Record runCell(const CellSpec& cell, const Scene& scene, const CellOptions& options) {
   const SchemeInfo& scheme = findScheme(cell.scheme);
-  Record record = cellIdentity(cell, scene);
+  // Resolved once, here where the build starts; the scheme receives them typed.
+  const ParamValues params = scheme.resolve(cell.params);
+  Record record = identityOf(cell, scene, scheme, params);
   const Light light = sceneLight(scene, cell.lightIndex);
   const BuildShape shape{record.tileSize};
-  const ParamValues params = scheme.resolve(cell.params);
   // Refuse before the depth source spends time on the scene (buildStructure checks again).
   checkBuildFits(scheme, mapFor(scheme, cell.mode, cell.resolution), params, shape);
   const DepthSource source(scene, light, cell.mode, cell.resolution);
