@@ -1,10 +1,5 @@
 #include "harness/sweep.h"
 
-#include <stdlib.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstring>
 #include <deque>
 #include <set>
 #include <stdexcept>
@@ -68,23 +63,6 @@ void checkParams(const std::vector<const SchemeInfo*>& swept, const Params& para
           fmt::format("no swept scheme has a parameter '{}' (see 'shadowbench schemes')", name));
 }
 
-// Creates `out` and writes and removes a file in it: a read-only folder is found now, not after
-// every cell is built.
-void checkWritable(const fs::path& out) {
-  std::error_code error;
-  fs::create_directories(out, error);
-  if (error)
-    throw std::runtime_error(
-        fmt::format("cannot create the records folder '{}': {}", out.string(), error.message()));
-  std::string probe = (out / ".write-check-XXXXXX").string();
-  const int fd = mkstemp(probe.data());
-  if (fd < 0)
-    throw std::runtime_error(fmt::format("the records folder '{}' is not writable: {}",
-                                         out.string(), std::strerror(errno)));
-  ::close(fd);
-  ::unlink(probe.c_str());
-}
-
 // The record at `path` when it answers `identity`; nullopt when absent, unreadable or another.
 std::optional<Record> answering(const fs::path& path, const Record& identity) {
   std::error_code error;
@@ -107,7 +85,7 @@ SweepPlan plan(const SweepSpec& spec) {
     resolutions.push_back(parseResolution(resolution));
   SweepPlan plan;
   for (const std::string& sceneSpec : spec.scenes) plan.scenes.push_back(openScene(sceneSpec));
-  checkWritable(spec.out);
+  checkWritableFolder(spec.out);
 
   for (size_t s = 0; s < spec.scenes.size(); ++s)
     for (DepthMode mode : modes)

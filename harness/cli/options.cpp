@@ -1,11 +1,7 @@
 #include "harness/cli/options.h"
 
-#include <stdlib.h>
-#include <unistd.h>
-
 #include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <sstream>
 #include <system_error>
 
@@ -81,22 +77,6 @@ void checkOutputFile(const fs::path& output, const std::vector<fs::path>& inputs
       throw std::runtime_error(fmt::format("refusing to write '{}': it is the input '{}'",
                                            output.string(), input.string()));
   checkWritableFolder(output.parent_path());
-}
-
-void checkWritableFolder(const fs::path& folder) {
-  const fs::path at = folder.empty() ? fs::path(".") : folder;
-  std::error_code error;
-  fs::create_directories(at, error);
-  if (error)
-    throw std::runtime_error(
-        fmt::format("cannot create the folder '{}': {}", at.string(), error.message()));
-  std::string probe = (at / ".shadowbench-probe-XXXXXX").string();
-  const int fd = ::mkstemp(probe.data());
-  if (fd < 0)
-    throw std::runtime_error(fmt::format("cannot create files in the folder '{}': {}", at.string(),
-                                         std::strerror(errno)));
-  ::close(fd);
-  ::unlink(probe.c_str());
 }
 
 void flushStandardOutput() {

@@ -47,10 +47,6 @@ std::vector<std::string> splitList(const std::string& text);
 void checkOutputFile(const std::filesystem::path& output,
                      const std::vector<std::filesystem::path>& inputs);
 
-// Creates `folder` and checks that a file can be created in it (a throwaway file, removed);
-// throws std::runtime_error naming the folder and the reason.
-void checkWritableFolder(const std::filesystem::path& folder);
-
 // Flushes standard output; throws "cannot write standard output: <reason>" if that or an
 // earlier write to it failed: output lost is a failed run (issue 11 A3).
 void flushStandardOutput();

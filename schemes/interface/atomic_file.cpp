@@ -1,6 +1,7 @@
 #include "schemes/interface/atomic_file.h"
 
 #include <fcntl.h>
+#include <stdlib.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -111,6 +112,22 @@ void writeFileAtomically(const fs::path& path, std::string_view contents) {
     throwFileError("cannot replace", path, errno);
   temporary.release();
   syncFolder(path.parent_path());
+}
+
+void checkWritableFolder(const fs::path& folder) {
+  const fs::path at = folder.empty() ? fs::path(".") : folder;
+  std::error_code error;
+  fs::create_directories(at, error);
+  if (error)
+    throw std::runtime_error(
+        fmt::format("cannot create the folder '{}': {}", at.string(), error.message()));
+  std::string probe = (at / ".shadowbench-probe-XXXXXX").string();
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0)
+    throw std::runtime_error(fmt::format("cannot create files in the folder '{}': {}", at.string(),
+                                         std::strerror(errno)));
+  ::close(fd);
+  ::unlink(probe.c_str());
 }
 
 }  // namespace sb

@@ -18,4 +18,9 @@ void writeFileAtomically(const std::filesystem::path& path, std::string_view con
 // an output before spending time on what they will write.
 void checkReplaceable(const std::filesystem::path& path);
 
+// Creates `folder` ("" is the current folder) and creates and removes a file in it, so that a
+// folder where nothing can be written is found before the work whose output would go there.
+// Throws std::runtime_error naming the folder.
+void checkWritableFolder(const std::filesystem::path& folder);
+
 }  // namespace sb
