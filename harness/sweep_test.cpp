@@ -171,7 +171,7 @@ TEST_CASE(
   refusedWith([](sb::SweepSpec& s) { s.resolutions = {"64", "1024K"}; }, "_1048576_");
   std::ofstream(dir.path() / "file") << "not a folder";
   sb::SweepSpec unwritable = tinySweep(dir.path() / "file" / "out");
-  CHECK(refusal(unwritable).find("cannot create the records folder") != std::string::npos);
+  CHECK(refusal(unwritable).find("cannot create the folder") != std::string::npos);
 }
 
 // Issue 11 A10: two sweeps into one folder each built every cell.
