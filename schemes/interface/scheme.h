@@ -23,6 +23,9 @@ namespace sb {
 
 class ByteReader;
 class ByteWriter;
+class PartEncoder;  // schemes/interface/parts.h
+class PartMerger;
+struct MapPart;
 class HierarchicalLookup;  // schemes/interface/capabilities.h
 class VoxelOccupancy;
 
@@ -105,10 +108,12 @@ class Encoder {
   virtual std::unique_ptr<Decoder> finish(BuildContext& context) = 0;
 };
 
-// How the harness shapes a build: what a scheme's working memory depends on beside the map
-// (the tile size its encoder receives; soon the part size of a build in parts).
+// How the harness shapes a build: what a scheme's working memory depends on beside the map (the
+// tile size its encoders receive, and the part size of a build in parts).
 struct BuildShape {
   uint32_t tileSize = 512;
+  uint32_t partSize = 0;  // 0: a whole build; else a power of two in [tileSize, R) (parts.h)
+  bool inParts(const MapInfo& map) const { return partSize != 0 && partSize < map.resolution; }
 };
 
 struct SchemeInfo {
@@ -117,13 +122,21 @@ struct SchemeInfo {
   SchemeKind kind = SchemeKind::Depth;
   std::vector<ParamSpec> params;
   // Bytes the build needs at least, working memory and the structure it grows together: for
-  // refusing, before starting, a resolution that cannot fit.
+  // refusing, before starting, a resolution that cannot fit. For a build in parts
+  // (shape.inParts), the larger of one part's encoding and the merge.
   std::function<uint64_t(const MapInfo&, const ParamValues&, const BuildShape&)> buildBytes;
   std::function<std::unique_ptr<Encoder>(const MapInfo&, const ParamValues&, const BuildShape&)>
       makeEncoder;
   // Reads a payload written by Decoder::save, validating everything: a structure that loads
   // never reads out of bounds at lookup time. Throws FormatError.
   std::function<std::unique_ptr<Decoder>(ByteReader&, const MapInfo&, const ParamValues&)> load;
+  // Builds in parts (parts.h); both null for a scheme that builds only whole.
+  std::function<std::unique_ptr<PartEncoder>(const MapInfo&, const MapPart&, const ParamValues&,
+                                             const BuildShape&)>
+      makePartEncoder;
+  std::function<std::unique_ptr<PartMerger>(const MapInfo&, const ParamValues&, const BuildShape&)>
+      makePartMerger;
+  bool buildsInParts() const { return makePartEncoder && makePartMerger; }
 
   // Defaults filled in, every value checked against its spec; throws ParamError.
   ParamValues resolve(const Params& given) const;

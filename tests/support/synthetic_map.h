@@ -3,13 +3,16 @@
 // and intervals of every kind the modes produce (points, bands, open-ended bands).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <vector>
 
 #include "schemes/interface/morton.h"
+#include "schemes/interface/parts.h"
 #include "schemes/interface/scheme.h"
+#include "schemes/interface/serial.h"
 #include "schemes/interface/splitmix.h"
 
 namespace sb::testing {
@@ -66,12 +69,13 @@ struct SyntheticMap {
     return {resolution, kind == SchemeKind::Voxel ? resolution : 0u, mode};
   }
 
-  // Square tiles in Morton order, as the harness streams them.
+  // Square tiles in Morton order, as the harness streams them; the tiles [first, end) of that
+  // order only (a part's tiles are a run of it).
   template <class F>
-  void stream(uint32_t tileSize, F&& consume) const {
+  void stream(uint32_t tileSize, F&& consume, uint64_t first = 0, uint64_t end = ~0ull) const {
     const uint32_t perSide = resolution / tileSize;
     DualDepthTile tile;
-    for (uint64_t m = 0; m < uint64_t(perSide) * perSide; ++m) {
+    for (uint64_t m = first; m < std::min(end, uint64_t(perSide) * perSide); ++m) {
       tile.resize(mortonX(m) * tileSize, mortonY(m) * tileSize, tileSize, tileSize);
       for (uint32_t j = 0; j < tileSize; ++j)
         for (uint32_t i = 0; i < tileSize; ++i) {
@@ -90,6 +94,32 @@ struct SyntheticMap {
         scheme.makeEncoder(info(scheme.kind), scheme.resolve(params), BuildShape{tileSize});
     stream(tileSize, [&](const DualDepthTile& tile) { encoder->consume(tile, context); });
     return encoder->finish(context);
+  }
+
+  // The build in parts of side `partSize` (parts.h): each part encoded, its payload written and
+  // read back as a part file would be, then the payloads merged in part order.
+  std::unique_ptr<Decoder> buildInParts(const SchemeInfo& scheme, const Params& params,
+                                        uint32_t tileSize, uint32_t partSize) const {
+    NullBuildContext context;
+    const MapInfo map = info(scheme.kind);
+    const ParamValues values = scheme.resolve(params);
+    const BuildShape shape{tileSize, partSize};
+    const uint64_t tilesPerPart = uint64_t(partSize / tileSize) * (partSize / tileSize);
+    auto merger = scheme.makePartMerger(map, values, shape);
+    for (uint64_t index = 0; index < MapPart::countFor(map, partSize); ++index) {
+      const MapPart part = MapPart::of(index, partSize);
+      auto encoder = scheme.makePartEncoder(map, part, values, shape);
+      stream(
+          tileSize, [&](const DualDepthTile& tile) { encoder->consume(tile, context); },
+          index * tilesPerPart, (index + 1) * tilesPerPart);
+      ByteWriter payload;
+      encoder->finish(payload, context);
+      encoder.reset();
+      ByteReader in(payload.bytes());
+      merger->add(part, in, context);
+      in.expectEnd();
+    }
+    return merger->finish(context);
   }
 };
 
