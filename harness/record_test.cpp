@@ -191,6 +191,21 @@ TEST_CASE("a Record reads every field of a record and writes the same JSON back"
   CHECK(json(record) == written);
 }
 
+TEST_CASE("a Record of a build in parts keeps its part size, shared depth pass and estimate",
+          "[record][parts]") {
+  json written = sampleRecord();
+  written["part_size"] = 1024;
+  written["time_s"]["depth_shared_with"] = {"mh", "dag-mh"};
+  written["memory"]["estimated_bytes"] = 1000;
+  const sb::Record record = written.get<sb::Record>();
+  CHECK(record.partSize == 1024);
+  CHECK(record.time->depthSharedWith == std::vector<std::string>{"mh", "dag-mh"});
+  CHECK(record.memory->estimatedBytes == 1000);
+  CHECK(json(record) == written);
+  written["time_s"]["depth_shared_with"] = "mh";
+  CHECK_THROWS_WITH(written.get<sb::Record>(), Catch::Contains("time_s.depth_shared_with"));
+}
+
 // Issue 11 A4: tables printed a negative size; impossible values must be refused, by name.
 TEST_CASE("a Record refuses impossible values and says which field", "[record]") {
   const auto refusal = [](auto edit) -> std::string {
