@@ -162,6 +162,29 @@ set -e
 [ $closed -eq 2 ] && grep -q "cannot write standard output: Bad file descriptor" "$work/closed.txt" || fail "query >&-: rc $closed, $(cat "$work/closed.txt")"
 [ $endless -eq 2 ] && grep -qx "shadowbench: cannot write standard output: No space left on device" "$work/endless.txt" || fail "endless query > /dev/full: rc $endless, $(cat "$work/endless.txt")"
 
+# Builds in parts: part files one job at a time, a merge that names what is missing, a build that
+# resumes from them and answers as the whole build; several schemes from one depth pass.
+parts=(--scene city -m closed -r 128 --tile 32 --part-size 64 --parts "$work/parts")
+"$sb" part "${parts[@]}" --scheme sm32 --part 1 > /dev/null
+refused "3 of 4 part files of sm32 are missing" "$sb" merge "${parts[@]}" --scheme sm32 --results "$work/builds" --no-bench
+"$sb" build "${parts[@]}" --scheme sm32 -o "$work/parts.sb" --results "$work/builds" --no-bench > "$work/parts.txt"
+grep -q "0 mismatches" "$work/parts.txt" || fail "build in parts did not verify: $(cat "$work/parts.txt")"
+"$sb" build --scene city -m closed -r 128 --scheme sm32 -o "$work/whole.sb" --results "$work/builds" --no-bench > /dev/null
+printf '0.25 0.5 0.4 1\n0.6 0.3 0.2 3\n0.5 0.5 0.9 9\n' > "$work/queries.txt"
+cmp <("$sb" query "$work/parts.sb" < "$work/queries.txt") <("$sb" query "$work/whole.sb" < "$work/queries.txt") || fail "merged and whole structures answer differently"
+refused "does not build in parts" "$sb" build "${parts[@]}" --scheme openvdb --results "$work/builds"
+refused "must lie from the tile size 32 to below the resolution 128" "$sb" build --scene "$missing" -r 128 --tile 32 --part-size 128 --scheme sm32
+refused "must name its scheme" "$sb" build --scene "$missing" --scheme sm32,sm-zstd -p block=64
+refused "which is not among --scheme" "$sb" build --scene "$missing" --scheme sm32,sm-zstd -p mh:x=1
+refused "--output saves one structure" "$sb" build --scene "$missing" --scheme sm32,sm-zstd -o "$work/two.sb"
+"$sb" build --scene city -m closed -r 64 --scheme sm32,sm-zstd --results "$work/shared" --no-bench > /dev/null
+[ "$(ls "$work/shared"/*.json | wc -l)" -eq 2 ] || fail "one depth pass for two schemes did not record both"
+"$sb" estimate --scheme sm32,sm-zstd -m closed -r 1K | /usr/bin/python3 -c '
+import json, sys
+e = json.load(sys.stdin)
+assert e["build_bytes"] == sum(e["schemes"].values()) and e["schemes"]["sm32"] == 4 << 20, e
+' || fail "estimate"
+
 # The registry as JSON for scripts, values as strings as records hold them.
 "$sb" schemes --json > "$work/schemes.json"
 /usr/bin/python3 -c '
