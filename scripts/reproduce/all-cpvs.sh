@@ -2,7 +2,7 @@
 # Every CPVS table in turn (Sintorn 2014 Fig. 9, Kämpe 2015 Tables 1–4, lookup cost, Fig. 3), each into
 # results/reproduce/<table>.md; the arguments go to each script (e.g. --max-resolution 4K). A
 # table that fails does not stop the others; the exit status says whether any failed.
-#   scripts/reproduce/all-cpvs.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/all-cpvs.sh [--max-resolution 256K] [sweep options]
 set -euo pipefail
 cd "$(dirname "$0")"
 failed=()

@@ -4,7 +4,7 @@
 # script (e.g. --max-resolution 4K). The tables with lookup timings run first, so that a cell the
 # parameter sweeps share with them (built there with --no-bench) already has its timings. A
 # table that fails does not stop the others; the exit status says whether any failed.
-#   scripts/reproduce/all-mh.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/all-mh.sh [--max-resolution 256K] [sweep options]
 set -euo pipefail
 cd "$(dirname "$0")"
 failed=()

@@ -1,6 +1,6 @@
 # shellcheck shell=bash
-# Sourced by the scripts of scripts/reproduce/ (not run): reads --max-resolution (every other
-# argument goes to each sweep), builds shadowbench (Release, in build/ or $SHADOWBENCH_BUILD),
+# Sourced by the scripts of scripts/reproduce/ (not run): reads --max-resolution and --part-size
+# (every other argument goes to each sweep), builds shadowbench (Release, in build/ or $SHADOWBENCH_BUILD),
 # and gives each script `resolutions`, `sweep` and `tabulate`. Records go to
 # results/reproduce/records, the sweeps' output to results/reproduce/<table>/sweep.log
 # and the table to results/reproduce/<table>.md.
@@ -12,8 +12,10 @@ cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 
 usage() {
   sed -n '2,/^#   scripts/s/^# \{0,1\}//p' "$script"
-  echo "Options: --max-resolution R (default 64K, e.g. 4K for a quick run); any other argument"
-  echo "goes to every 'shadowbench sweep' (e.g. --no-bench, --sampled-queries 1000000)."
+  echo "Options: --max-resolution R (default 256K, e.g. 4K for a quick run); --part-size P"
+  echo "(default 32K: cells above it that build in parts do so, part files in"
+  echo "results/reproduce/parts); any other argument goes to every 'shadowbench sweep' (e.g."
+  echo "--no-bench, --sampled-queries 1000000)."
 }
 
 # "4K" → 4096; fails on anything but digits with an optional K.
@@ -24,7 +26,8 @@ texels() {
 }
 label() { if (($1 >= 1024)); then echo "$(($1 / 1024))K"; else echo "$1"; fi; }
 
-max_resolution=64K
+max_resolution=256K
+part_size=32K
 sweep_args=()
 while [ $# -gt 0 ]; do
   case $1 in
@@ -33,6 +36,11 @@ while [ $# -gt 0 ]; do
       max_resolution=$2
       shift 2 ;;
     --max-resolution=*) max_resolution=${1#*=}; shift ;;
+    --part-size)
+      [ $# -ge 2 ] || { echo "$table: --part-size needs a value" >&2; exit 2; }
+      part_size=$2
+      shift 2 ;;
+    --part-size=*) part_size=${1#*=}; shift ;;
     -h | --help) usage; exit 0 ;;
     *) sweep_args+=("$1"); shift ;;
   esac
@@ -82,9 +90,10 @@ sb=$build_dir/harness/shadowbench
 # script resumes. A failed or mismatched cell does not stop the script; it sets its exit status.
 status=0
 sweep() {
-  echo "shadowbench sweep $*${sweep_args[*]:+ ${sweep_args[*]}}" | tee -a "$log"
+  echo "shadowbench sweep --part-size $part_size $*${sweep_args[*]:+ ${sweep_args[*]}}" | tee -a "$log"
   local rc=0
-  "$sb" sweep --out "$records" "$@" "${sweep_args[@]}" >>"$log" || rc=$?
+  "$sb" sweep --out "$records" --part-size "$part_size" --parts "$out/parts" "$@" \
+    "${sweep_args[@]}" >>"$log" || rc=$?
   [ $rc -ne 2 ] || exit 2 # refused its arguments (shadowbench said why); nothing was built
   [ $rc -eq 0 ] || status=1
   grep '^sweep:' "$log" | tail -n 1

@@ -7,7 +7,7 @@
 # holds (compare-size.sh builds open mode and the resolutions between). The cells are those
 # compare-size.sh builds, with its memory caps: `sm32` and `openvdb` up to 16K² (so at 4K² and
 # 16K² here).
-#   scripts/reproduce/compare-lookup.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/compare-lookup.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
 scenes=city:full,terrain:full

@@ -7,7 +7,7 @@
 # `openvdb` up to 16K², `mh`, `mmh` and `dag-mh` open
 # up to 8K² (a node per texel); the caps are explained below and in the table. Also plots the
 # same cells (scripts/plot.py) into results/reproduce/compare-size/plots.
-#   scripts/reproduce/compare-size.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/compare-size.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
 scenes=city:full,terrain:full

@@ -3,7 +3,7 @@
 # `cpvs` and `cpvs-fast` at 1×1, 9×9 and 17×17 and the ratios 9×9/1×1 and 17×17/1×1, uniform and
 # view queries, on city (≈ ClosedCity) closed and open and forest (≈ Necropolis) open, at 4K²,
 # 16K², 64K² up to --max-resolution; `sm32` (float32 shadow map, at most 16K²) for reference.
-#   scripts/reproduce/cpvs-lookup.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/cpvs-lookup.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
 for scene_modes in "city:full closed,open" "forest:full open"; do

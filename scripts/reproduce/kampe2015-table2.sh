@@ -2,7 +2,7 @@
 # Kämpe et al. 2015, Table 2: the size of `cpvs` ("old", Sintorn 2014) and `cpvs-fast` ("new")
 # with the closed-object optimisation, and their ratio, on city (≈ ClosedCity) and terrain
 # (≈ FractalLandscape), from 4K² to --max-resolution, with the paper's sizes beside ours.
-#   scripts/reproduce/kampe2015-table2.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/kampe2015-table2.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
 sweep --schemes cpvs,cpvs-fast --scenes city:full,terrain:full --modes closed \

@@ -3,7 +3,7 @@
 and the tables that set every lossless scheme side by side.
 
     /usr/bin/python3 scripts/reproduce/paper_tables.py TABLE RECORDS_DIR
-        [--max-resolution 64K] [--command "how the records were made"]
+        [--max-resolution 256K] [--command "how the records were made"]
 
 TABLE is one of sintorn2014-fig9, kampe2015-table1 … kampe2015-table4, cpvs-lookup (CPVS),
 scandolo2016-table1 … table3, scandolo2016-fig8, scandolo2021-table1 … table4, mh-lookup (MH
@@ -69,8 +69,8 @@ def main():
         "shadowbench records.")
     parser.add_argument("table", choices=sorted(TABLES))
     parser.add_argument("records", type=Path, help="folder of JSON records")
-    parser.add_argument("--max-resolution", type=parse_resolution, default=64 * K,
-                        help="largest resolution shown (default 64K)")
+    parser.add_argument("--max-resolution", type=parse_resolution, default=256 * K,
+                        help="largest resolution shown (default 256K)")
     parser.add_argument("--command", help="the command that made the records, for the table")
     args = parser.parse_args()
     try:

@@ -5,7 +5,7 @@
 # paper's 64K²: there the 9 cells cost 2–3 minutes each plus a matching time that grows with the
 # distance (about 25 minutes, a third of all-mh.sh) for a figure that prints no numbers;
 # FIG8_RESOLUTION=64K builds the paper's. Distances other than 1000 are built --no-bench.
-#   scripts/reproduce/scandolo2016-fig8.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/scandolo2016-fig8.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
 if ! at=$(texels "${FIG8_RESOLUTION:-16K}") || ((at < 8 || (at & (at - 1)) != 0)); then

@@ -4,7 +4,7 @@
 # 4K², 16K², 64K² up to --max-resolution, on forest (≈ VILLA, SHIP) in static mode (first and
 # second surface: its trees and ground are open meshes) likewise, and on city open up to 8K², with
 # the paper's sizes beside ours.
-#   scripts/reproduce/scandolo2016-table1.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/scandolo2016-table1.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
 # Cap: city open up to 8K². Open, the ground is a point interval of changing depth, so the

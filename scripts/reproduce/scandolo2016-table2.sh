@@ -3,7 +3,7 @@
 # (search distance 1000), total and without the depth map, on city (≈ CLOSED CITY) closed at
 # 4K², 16K², 64K² up to --max-resolution and on forest (≈ SHIP) static likewise, with the
 # paper's times beside ours. The cells are Table 1's.
-#   scripts/reproduce/scandolo2016-table2.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/scandolo2016-table2.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
 sweep --schemes mh,mmh,cpvs --scenes city:full --modes closed \

@@ -3,7 +3,7 @@
 # it tests — interval mismatch, offset too large, full test — as % of the pairs tested, on city
 # (≈ CLOSED CITY, CITYSCAPE) closed at 16K² and 64K² up to --max-resolution, with the paper's
 # percentages beside ours.
-#   scripts/reproduce/scandolo2016-table3.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/scandolo2016-table3.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
 sweep --schemes mmh --scenes city:full --modes closed \

@@ -3,7 +3,7 @@
 # nodes, treelets) for treelet heights 2, 3, 4, 5, on city (≈ Citadel) closed at 16K² and 64K² up
 # to --max-resolution, with the paper's figures beside ours. Heights other than 4 are built
 # without lookup timings (--no-bench).
-#   scripts/reproduce/scandolo2021-table3.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/scandolo2021-table3.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
 for height in 4 2 3 5; do

@@ -3,7 +3,7 @@
 # sizes, values needing a factor, bits per factor) for 16, 32, 64, 128 values per chunk, on city
 # (≈ Citadel) closed at 16K² and 64K² up to --max-resolution, with the paper's figures beside
 # ours. Chunk sizes other than 32 are built without lookup timings (--no-bench).
-#   scripts/reproduce/scandolo2021-table4.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/scandolo2021-table4.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
 for chunk in 32 16 64 128; do
