@@ -23,7 +23,7 @@ if ! CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebIn
   exit 1
 fi
 cmake --build "$build" -j "$(nproc)" --target fuzz_structure_file fuzz_scheme_payload \
-  fuzz_scene_file fuzz_model_file fuzz_query_line >/dev/null
+  fuzz_part_payload fuzz_scene_file fuzz_model_file fuzz_query_line >/dev/null
 export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
 
 failed=()
@@ -71,6 +71,11 @@ for golden in tests/golden/*.sb; do
   scheme=$(basename "$golden" .sb)
   [[ $scheme == *_* ]] && continue
   fuzz "payload-$scheme" fuzz_scheme_payload SHADOWBENCH_FUZZ_SCHEME="$scheme"
+done
+# Every scheme that builds in parts has a seed folder, hence a part payload target.
+for seeds in fuzz/corpus/part-*/; do
+  target=$(basename "$seeds")
+  fuzz "$target" fuzz_part_payload SHADOWBENCH_FUZZ_SCHEME="${target#part-}"
 done
 fuzz scene_file fuzz_scene_file
 fuzz model_file fuzz_model_file

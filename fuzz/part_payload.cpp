@@ -1,0 +1,86 @@
+// libFuzzer target: one scheme's part payload parser (PartMerger::add, issue 12). The input is
+// the payload of part 0 of a 32² map in parts of 16² (closed mode, the scheme's defaults); parts
+// 1–3 get the valid payloads the scheme's own part encoder writes for a seeded random map, so a
+// payload that is accepted is merged into a whole structure, which must then answer every lookup
+// within bounds. The scheme is named by SHADOWBENCH_FUZZ_SCHEME. With SHADOWBENCH_FUZZ_WRITE_SEED
+// set to a path, the binary writes the valid payload of part 0 there and exits: the seed of
+// fuzz/corpus/part-<scheme>/.
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <span>
+#include <vector>
+
+#include "fuzz/exercise_decoder.h"
+#include "schemes/interface/parts.h"
+#include "schemes/interface/serial.h"
+#include "tests/support/synthetic_map.h"
+
+namespace {
+
+constexpr uint32_t kResolution = 32, kPartSize = 16;
+const sb::SchemeInfo* scheme = nullptr;
+sb::ParamValues params;
+sb::MapInfo map;
+std::vector<std::vector<uint8_t>> validPayloads;  // of parts 0 … 3
+
+std::vector<std::vector<uint8_t>> encodeParts(const sb::testing::SyntheticMap& depths) {
+  sb::testing::NullBuildContext context;
+  std::vector<std::vector<uint8_t>> payloads;
+  for (uint64_t index = 0; index < sb::MapPart::countFor(map, kPartSize); ++index) {
+    auto encoder = scheme->makePartEncoder(map, sb::MapPart::of(index, kPartSize), params,
+                                           {kPartSize, kPartSize});
+    depths.stream(
+        kPartSize, [&](const sb::DualDepthTile& tile) { encoder->consume(tile, context); }, index,
+        index + 1);
+    sb::ByteWriter out;
+    encoder->finish(out, context);
+    payloads.push_back(out.release());
+  }
+  return payloads;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  const char* name = std::getenv("SHADOWBENCH_FUZZ_SCHEME");
+  try {
+    scheme = &sb::findScheme(name ? name : "");
+  } catch (const std::invalid_argument& error) {
+    std::fprintf(stderr, "SHADOWBENCH_FUZZ_SCHEME: %s\n", error.what());
+    std::exit(2);
+  }
+  if (!scheme->buildsInParts()) {
+    std::fprintf(stderr, "SHADOWBENCH_FUZZ_SCHEME: %s does not build in parts\n", name);
+    std::exit(2);
+  }
+  params = scheme->resolve({});
+  const auto depths = sb::testing::SyntheticMap::random(kResolution, sb::DepthMode::Closed, 0x5eed);
+  map = depths.info(scheme->kind);
+  validPayloads = encodeParts(depths);
+  if (const char* seed = std::getenv("SHADOWBENCH_FUZZ_WRITE_SEED")) {
+    std::ofstream(seed, std::ios::binary)
+        .write(reinterpret_cast<const char*>(validPayloads[0].data()),
+               std::streamsize(validPayloads[0].size()));
+    std::exit(0);
+  }
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  sb::testing::NullBuildContext context;
+  auto merger = scheme->makePartMerger(map, params, {kPartSize, kPartSize});
+  try {
+    for (uint64_t index = 0; index < validPayloads.size(); ++index) {
+      sb::ByteReader payload(index == 0 ? std::span(data, size)
+                                        : std::span<const uint8_t>(validPayloads[index]));
+      merger->add(sb::MapPart::of(index, kPartSize), payload, context);
+      payload.expectEnd();
+    }
+    sb::fuzz::exerciseDecoder(*merger->finish(context));
+  } catch (const sb::FormatError&) {
+  }
+  return 0;
+}
