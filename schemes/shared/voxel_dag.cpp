@@ -89,13 +89,6 @@ namespace {
 uint32_t childCode(uint32_t header, uint32_t child) {
   return childFlag(header, int(child));
 }
-// Bit 2c is set for each partial child c (code 0b10).
-uint32_t partialBits(uint32_t header) {
-  return (header >> 1) & ~header & 0x5555u;
-}
-uint32_t nodeWords(uint32_t header) {
-  return 1 + uint32_t(std::popcount(partialBits(header)));
-}
 // The position of child c's pointer among the node's words.
 uint32_t pointerSlot(uint32_t header, uint32_t child) {
   return 1 + uint32_t(std::popcount(partialBits(header) & ((1u << (2 * child)) - 1)));
@@ -164,6 +157,12 @@ uint64_t VoxelDagBuilder::nodeCount() const {
 uint64_t VoxelDagBuilder::leafmaskCount() const {
   return leafmasks_->count();
 }
+std::span<const uint32_t> VoxelDagBuilder::storedNodes(uint32_t depth) const {
+  return depths_.at(depth)->words;
+}
+std::span<const uint64_t> VoxelDagBuilder::storedLeafmasks() const {
+  return leafmasks_->masks;
+}
 
 VoxelDag VoxelDagBuilder::finish(DagRef root, uint32_t gridLevels) {
   const uint32_t leafParent = shape_.leafParentDepth();
@@ -211,7 +210,7 @@ VoxelDag VoxelDagBuilder::finish(DagRef root, uint32_t gridLevels) {
       const uint32_t* words = table.words.data() + table.offsets[id];
       const uint32_t occupancy = uint32_t(std::lround(65535.0 * double(litVoxels[d][id]) / volume));
       dag.nodes.push_back((words[0] & 0xffffu) | occupancy << 16);
-      for (uint32_t w = 1; w < nodeWords(words[0]); ++w)
+      for (uint32_t w = 1; w < nodeWordCount(words[0]); ++w)
         dag.nodes.push_back(
             d == leafParent ? words[w] : uint32_t(base[d + 1]) + depths_[d + 1]->offsets[words[w]]);
     }
@@ -438,6 +437,13 @@ std::unique_ptr<Decoder> makeVoxelDagDecoder(VoxelDag dag) {
   return std::make_unique<VoxelDagDecoder>(std::move(dag));
 }
 
+std::unique_ptr<Decoder> finishVoxelDag(VoxelDagBuilder& dag, DagRef root, uint32_t gridLevels,
+                                        BuildContext& context) {
+  context.count("dag nodes", dag.nodeCount());
+  context.count("dag leafmasks", dag.leafmaskCount());
+  return makeVoxelDagDecoder(dag.finish(root, gridLevels));
+}
+
 std::unique_ptr<Decoder> loadVoxelDag(ByteReader& in, const VoxelDagShape& shape,
                                       uint32_t gridLevels) {
   VoxelDag dag;
@@ -465,7 +471,7 @@ std::unique_ptr<Decoder> loadVoxelDag(ByteReader& in, const VoxelDagShape& shape
         if (childCode(header, c) == 3)
           throw FormatError(fmt::format("CPVS: invalid child code in the node at word {}", w));
       nodeStart[w] = true;
-      w += nodeWords(header);
+      w += nodeWordCount(header);
       if (w > dag.depthBegin[level + 1])
         throw FormatError(
             fmt::format("CPVS: a node at depth {} overruns its depth", gridLevels + level));
@@ -480,7 +486,7 @@ std::unique_ptr<Decoder> loadVoxelDag(ByteReader& in, const VoxelDagShape& shape
   for (uint32_t level = 0; level + 1 < dag.depthBegin.size(); ++level) {
     const uint32_t depth = gridLevels + level;
     for (uint64_t w = dag.depthBegin[level]; w < dag.depthBegin[level + 1];) {
-      const uint32_t words = nodeWords(dag.nodes[w]);
+      const uint32_t words = nodeWordCount(dag.nodes[w]);
       for (uint32_t p = 1; p < words; ++p) {
         const uint32_t pointer = dag.nodes[w + p];
         if (depth == leafParent) {
