@@ -1,6 +1,7 @@
 #include "schemes/shared/voxel_dag.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -28,6 +29,26 @@ VoxelDagShape VoxelDagShape::of(const MapInfo& map, LeafLayout layout) {
   return {uint32_t(std::countr_zero(map.resolution)), layout};
 }
 
+namespace {
+
+// What a CPVS build holds beside its tiles and its DAG: the harness's tile buffers and the
+// allocator's slack (measured above the process's baseline on city closed at 2K²: 34 MiB).
+constexpr uint64_t kBuildSlackBytes = uint64_t(32) << 20;
+// Bytes a build holds per byte of the final DAG at its peak: while the DAG grows, each node's
+// words, its offset, its hash and two slots of a table kept at most half full (about 3×); at
+// the end the laid-out copy and the lit counts of every node (measured: 4.7× on city closed from
+// 8K² to 256K²).
+constexpr uint64_t kDagBuildFactor = 5;
+
+// The DAG a CPVS of side R grows to. With closed objects it scales as the silhouettes, a curve
+// (Kämpe 2015 §3.1), and hash-consing shares more as R grows: measured on cpvs-fast city:full
+// closed, 9.9 MiB at 4K², 29.7 MiB at 16K², 244 MiB at 256K² (issue 12), i.e. R^0.77.
+uint64_t expectedDagBytes(uint32_t resolution) {
+  return uint64_t(10.0 * double(1 << 20) * std::pow(double(resolution) / 4096.0, 0.77));
+}
+
+}  // namespace
+
 SchemeInfo voxelDagScheme(std::string name, std::string paper) {
   SchemeInfo info;
   info.name = name;
@@ -45,7 +66,13 @@ SchemeInfo voxelDagScheme(std::string name, std::string paper) {
   };
   info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape& shape) {
     const uint64_t tile = std::min(map.resolution, shape.tileSize);
-    return tile * tile * 24 + (uint64_t(64) << 20);
+    const uint64_t tileArrays = tile * tile * 24, dag = expectedDagBytes(map.resolution);
+    if (!shape.inParts(map)) return kBuildSlackBytes + tileArrays + kDagBuildFactor * dag;
+    // A part's DAG, and so its payload, taken as the part's share of the map's side: above the
+    // measured share (city closed 8K² in parts of 2K²: 13% of the DAG, not 25%).
+    const uint64_t part = dag * shape.partSize / map.resolution;
+    return kBuildSlackBytes +
+           std::max(tileArrays + kDagBuildFactor * part, kDagBuildFactor * dag + part);
   };
   info.load = [](ByteReader& in, const MapInfo& map, const ParamValues& params) {
     const VoxelDagConfig config = voxelDagConfig(map, params);

@@ -229,6 +229,25 @@ TEST_CASE("a CPVS merged from parts is the whole build's DAG", "[voxel][parts]")
           }
 }
 
+// Issue 12 item 3: the estimate a build in parts is checked against follows the part size, and
+// the merge holds the whole DAG as a whole build does at its end.
+TEST_CASE("the CPVS memory estimate in parts follows the part size", "[voxel][parts]") {
+  for (const char* name : {"cpvs", "cpvs-fast"}) {
+    const SchemeInfo& scheme = findScheme(name);
+    const ParamValues params = scheme.resolve({});
+    const MapInfo map{262144, 262144, DepthMode::Closed};
+    const uint64_t whole = scheme.buildBytes(map, params, {512});
+    uint64_t previous = 0;
+    for (uint32_t partSize : {512u, 4096u, 16384u, 65536u}) {
+      INFO(name << " parts of " << partSize);
+      const uint64_t inParts = scheme.buildBytes(map, params, {512, partSize});
+      CHECK(inParts > previous);
+      CHECK(inParts >= whole - uint64_t(512) * 512 * 24);
+      previous = inParts;
+    }
+  }
+}
+
 TEST_CASE("the deepest level of a 64K structure is addressed exactly", "[voxel]") {
   // One shadowed voxel at the far corner of a 65536³ volume, built node by node down its path.
   for (LeafLayout layout : {LeafLayout::Slab8, LeafLayout::Cube4}) {
