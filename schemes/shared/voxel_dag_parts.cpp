@@ -47,10 +47,13 @@ VoxelDagPartMerger::VoxelDagPartMerger(const MapInfo& map, VoxelDagConfig config
 }
 
 void VoxelDagPartMerger::add(const MapPart& part, ByteReader& payload, BuildContext& context) {
-  if (part.size != partSize_ || part.index != partsSeen_)
-    throw std::invalid_argument(
-        fmt::format("CPVS: part {} of side {} arrived where part {} of side {} was expected",
-                    part.index, part.size, partsSeen_, partSize_));
+  const MapPart expected = MapPart::of(partsSeen_, partSize_);
+  if (part.size != partSize_ || part.index != partsSeen_ || part.x0 != expected.x0 ||
+      part.y0 != expected.y0)
+    throw std::invalid_argument(fmt::format(
+        "CPVS: part {} ({}² at ({}, {})) arrived where part {} ({}² at ({}, {})) was "
+        "expected",
+        part.index, part.size, part.x0, part.y0, partsSeen_, partSize_, expected.x0, expected.y0));
   context.phase("merge parts");
   // The whole payload is validated before any of it enters the DAG, so that a refused part
   // leaves the merge as it was.

@@ -221,6 +221,9 @@ TEST_CASE("parts out of order or of another size are a harness error", "[voxel][
   ByteReader first(payloads[0]);
   CHECK_THROWS_AS(merger->add(MapPart::of(0, 2 * kPartSize), first, context),
                   std::invalid_argument);
+  MapPart elsewhere = MapPart::of(0, kPartSize);
+  elsewhere.x0 = kPartSize;
+  CHECK_THROWS_AS(merger->add(elsewhere, first, context), std::invalid_argument);
   CHECK_THROWS_AS(merger->finish(context), std::logic_error);
 }
 
