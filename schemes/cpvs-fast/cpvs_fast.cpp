@@ -106,8 +106,9 @@ void appendVisibilityMasks(const SliceInterval (&cells)[64], uint32_t depthResol
 
 class CpvsFastEncoder final : public CubeColumnEncoder {
  public:
-  CpvsFastEncoder(const MapInfo& map, VoxelDagConfig config, bool culling, Transitions transitions)
-      : CubeColumnEncoder(map, config), culling_(culling), transitions_(transitions) {}
+  CpvsFastEncoder(const MapInfo& map, VoxelDagConfig config, const MapPart& region, bool culling,
+                  Transitions transitions)
+      : CubeColumnEncoder(map, config, region), culling_(culling), transitions_(transitions) {}
 
  private:
   void prepareTile(const DualDepthTile& tile, BuildContext& context) override {
@@ -281,13 +282,13 @@ SchemeInfo cpvsFast() {
                                           "rule allows",
                                           "aligned", {"nearest-exit", "aligned"},
                                           {"nearest-exit", "aligned"}));
-  info.makeEncoder = [](const MapInfo& map, const ParamValues& params,
-                        const BuildShape&) -> std::unique_ptr<Encoder> {
-    return std::make_unique<CpvsFastEncoder>(
-        map, voxelDagConfig(map, params), params.choice("culling") == "on",
-        params.choice("transitions") == "aligned" ? Transitions::Aligned
-                                                  : Transitions::NearestExit);
-  };
+  setCubeColumnBuilds(info, [](const MapInfo& map, const VoxelDagConfig& config,
+                               const ParamValues& params, const MapPart& region) {
+    return std::make_unique<CpvsFastEncoder>(map, config, region, params.choice("culling") == "on",
+                                             params.choice("transitions") == "aligned"
+                                                 ? Transitions::Aligned
+                                                 : Transitions::NearestExit);
+  });
   return info;
 }
 

@@ -107,10 +107,10 @@ class CpvsEncoder final : public CubeColumnEncoder {
 SchemeInfo cpvs() {
   SchemeInfo info = voxelDagScheme(
       "cpvs", "Sintorn, Kämpe, Olsson, Assarsson 2014, Compact Precomputed Voxelized Shadows");
-  info.makeEncoder = [](const MapInfo& map, const ParamValues& params,
-                        const BuildShape&) -> std::unique_ptr<Encoder> {
-    return std::make_unique<CpvsEncoder>(map, voxelDagConfig(map, params));
-  };
+  setCubeColumnBuilds(info, [](const MapInfo& map, const VoxelDagConfig& config, const ParamValues&,
+                               const MapPart& region) {
+    return std::make_unique<CpvsEncoder>(map, config, region);
+  });
   return info;
 }
 

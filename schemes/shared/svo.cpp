@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "schemes/interface/morton.h"
+#include "schemes/shared/voxel_dag_parts.h"
 
 namespace sb {
 
@@ -95,16 +96,21 @@ uint32_t cubeTileSize(const DualDepthTile& tile) {
 void TileColumns::add(uint32_t x0, uint32_t y0, uint32_t tileSize, std::vector<SvoChild> cubes,
                       VoxelDagBuilder& dag) {
   if (tileSize_ == 0) tileSize_ = tileSize;
-  if (tileSize != tileSize_ || x0 % tileSize != 0 || y0 % tileSize != 0 ||
-      mortonCode(x0 / tileSize, y0 / tileSize) != tilesSeen_)
-    throw std::invalid_argument(
-        fmt::format("CPVS: tile at ({}, {}) of size {} is out of Morton order or of another size",
-                    x0, y0, tileSize));
+  // A region's tiles are a run of the map's Morton order, starting at its corner's tile.
+  const uint64_t first = mortonCode(region_.x0 / tileSize, region_.y0 / tileSize);
+  if (tileSize != tileSize_ || tileSize > region_.size || x0 % tileSize != 0 ||
+      y0 % tileSize != 0 || x0 < region_.x0 || y0 < region_.y0 || x0 - region_.x0 >= region_.size ||
+      y0 - region_.y0 >= region_.size ||
+      mortonCode(x0 / tileSize, y0 / tileSize) != first + tilesSeen_)
+    throw std::invalid_argument(fmt::format(
+        "CPVS: tile at ({}, {}) of size {} is out of Morton order, of another size or outside "
+        "the {}² region at ({}, {})",
+        x0, y0, tileSize, region_.size, region_.x0, region_.y0));
   ++tilesSeen_;
   stack_.push_back({tileSize, std::move(cubes)});
   const uint32_t resolution = 1u << shape_.levels;
   // Four columns of one size in a row are the quadrants of the next (Morton order).
-  while (stack_.size() >= 4 && stack_.back().side < resolution &&
+  while (stack_.size() >= 4 && stack_.back().side < region_.size &&
          stack_[stack_.size() - 4].side == stack_.back().side) {
     const uint32_t side = stack_.back().side * 2;
     const uint32_t depth = shape_.levels - uint32_t(std::countr_zero(side));
@@ -130,21 +136,30 @@ void TileColumns::add(uint32_t x0, uint32_t y0, uint32_t tileSize, std::vector<S
   }
 }
 
+const std::vector<SvoChild>& TileColumns::column() const {
+  if (stack_.size() != 1 || stack_[0].side != region_.size)
+    throw std::logic_error(fmt::format("CPVS: not every tile of the {}² region at ({}, {}) arrived",
+                                       region_.size, region_.x0, region_.y0));
+  return stack_[0].cubes;
+}
+
 DagRef TileColumns::root() const {
-  if (stack_.size() != 1 || stack_[0].side != (1u << shape_.levels))
-    throw std::logic_error("CPVS: not every tile arrived");
-  const SvoChild root = stack_[0].cubes[0];
+  if (region_.size != (1u << shape_.levels))
+    throw std::logic_error("CPVS: a part's region has no root");
+  const SvoChild root = column()[0];
   return root.kind == SvoChild::Shadowed ? kShadowedRef
          : root.kind == SvoChild::Global ? root.index
                                          : kLitRef;
 }
 
-CubeColumnEncoder::CubeColumnEncoder(const MapInfo& map, VoxelDagConfig config)
+CubeColumnEncoder::CubeColumnEncoder(const MapInfo& map, VoxelDagConfig config,
+                                     const MapPart& region)
     : shape_(VoxelDagShape::of(map, config.layout)),
       svo_(shape_),
+      region_(region),
       gridLevels_(config.gridLevels),
       dag_(shape_),
-      columns_(shape_) {}
+      columns_(shape_, region) {}
 
 void CubeColumnEncoder::consume(const DualDepthTile& tile, BuildContext& context) {
   tileSize_ = cubeTileSize(tile);
@@ -161,14 +176,37 @@ void CubeColumnEncoder::consume(const DualDepthTile& tile, BuildContext& context
   columns_.add(tile.x0, tile.y0, tileSize_, std::move(cubes), dag_);
 }
 
+void CubeColumnEncoder::countInsertion(BuildContext& context) const {
+  context.count("svo nodes inserted", svo_.inserted());
+  countConstruction(context);
+}
+
 std::unique_ptr<Decoder> CubeColumnEncoder::finish(BuildContext& context) {
   context.phase("merge");
-  VoxelDag dag = dag_.finish(columns_.root(), gridLevels_);
-  context.count("svo nodes inserted", svo_.inserted());
-  context.count("dag nodes", dag_.nodeCount());
-  context.count("dag leafmasks", dag_.leafmaskCount());
-  countConstruction(context);
-  return makeVoxelDagDecoder(std::move(dag));
+  countInsertion(context);
+  return finishVoxelDag(dag_, columns_.root(), gridLevels_, context);
+}
+
+void CubeColumnEncoder::finish(ByteWriter& out, BuildContext& context) {
+  context.phase("merge");
+  countInsertion(context);
+  writeVoxelDagPart(out, dag_, region_, columns_.column());
+}
+
+void setCubeColumnBuilds(SchemeInfo& info, CubeColumnConstruction construction) {
+  info.makeEncoder = [construction](const MapInfo& map, const ParamValues& params,
+                                    const BuildShape&) -> std::unique_ptr<Encoder> {
+    return construction(map, voxelDagConfig(map, params), params, MapPart::of(0, map.resolution));
+  };
+  info.makePartEncoder = [construction](const MapInfo& map, const MapPart& part,
+                                        const ParamValues& params,
+                                        const BuildShape&) -> std::unique_ptr<PartEncoder> {
+    return construction(map, voxelDagConfig(map, params), params, part);
+  };
+  info.makePartMerger = [](const MapInfo& map, const ParamValues& params,
+                           const BuildShape& shape) -> std::unique_ptr<PartMerger> {
+    return std::make_unique<VoxelDagPartMerger>(map, voxelDagConfig(map, params), shape.partSize);
+  };
 }
 
 }  // namespace sb

@@ -1,13 +1,16 @@
 // Building a CPVS cube by cube (Sintorn §6.1 tiled construction; Kämpe §3 "insert" and
 // "merge"): a cube's sparse voxel octree is inserted into a LocalSvo, merged into the global
-// VoxelDagBuilder, and the tiles' columns of cubes are joined into the top of the octree.
+// VoxelDagBuilder, and the tiles' columns of cubes are joined into the top of the octree — over
+// the whole map, or over one part whose DAG and column the merge joins (voxel_dag_parts.h).
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
+#include "schemes/interface/parts.h"
 #include "schemes/shared/voxel_dag.h"
 
 namespace sb {
@@ -68,17 +71,22 @@ class LocalSvo {
 // Throws std::invalid_argument otherwise.
 uint32_t cubeTileSize(const DualDepthTile& tile);
 
-// Joins the columns of cubes that the tiles produce (tiles in Morton order, all of one size)
-// into the levels of the octree above them, resolving undefined volumes by the parent rule.
+// Joins the columns of cubes that the tiles of a region produce (tiles in Morton order, all of
+// one size) into the levels of the octree above them, up to the region's side, resolving
+// undefined volumes by the parent rule. The region is the whole map, one part of it (its column
+// of cubes then stays open for the merge), or the whole map again when the merge joins the
+// parts' columns as tiles of the part's side.
 class TileColumns {
  public:
-  explicit TileColumns(VoxelDagShape shape) : shape_(shape) {}
+  TileColumns(VoxelDagShape shape, const MapPart& region) : shape_(shape), region_(region) {}
 
   // `cubes` are the tile's cubes of side `tileSize`, nearest the light first. Throws
-  // std::invalid_argument for tiles of another size or out of Morton order.
+  // std::invalid_argument for tiles of another size, outside the region or out of Morton order.
   void add(uint32_t x0, uint32_t y0, uint32_t tileSize, std::vector<SvoChild> cubes,
            VoxelDagBuilder& dag);
-  // The root once every tile has arrived (an undefined root is taken as lit).
+  // Once every tile has arrived: the region's column of cubes of its side, undefined ones kept.
+  const std::vector<SvoChild>& column() const;
+  // The root of a whole map's region (an undefined root is taken as lit).
   DagRef root() const;
 
  private:
@@ -87,21 +95,25 @@ class TileColumns {
     std::vector<SvoChild> cubes;
   };
   VoxelDagShape shape_;
+  MapPart region_;
   std::vector<Column> stack_;
   uint32_t tileSize_ = 0;
   uint64_t tilesSeen_ = 0;
 };
 
 // The encoder both CPVS constructions share (Sintorn §6.1, tiled): per tile, its column of cubes
-// is inserted cube by cube into the LocalSvo (phase "insert"), merged into the DAG ("merge") and
-// joined to the levels above; finish() lays the DAG out. A construction supplies the tile's
-// preparation and the insertion of one cube.
-class CubeColumnEncoder : public Encoder {
+// is inserted cube by cube into the LocalSvo (phase "insert"), merged into the region's DAG
+// ("merge") and joined to the levels above. Over the whole map it is the scheme's Encoder and
+// finish() lays the DAG out; over one part it is the PartEncoder and finish() writes the part's
+// DAG and column of cubes (voxel_dag_parts.h). A construction supplies the tile's preparation
+// and the insertion of one cube.
+class CubeColumnEncoder : public Encoder, public PartEncoder {
  public:
-  CubeColumnEncoder(const MapInfo& map, VoxelDagConfig config);
+  CubeColumnEncoder(const MapInfo& map, VoxelDagConfig config, const MapPart& region);
 
   void consume(const DualDepthTile& tile, BuildContext& context) final;
   std::unique_ptr<Decoder> finish(BuildContext& context) final;
+  void finish(ByteWriter& out, BuildContext& context) final;
 
  protected:
   // Everything the cubes of this tile need (slice runs, masks, pyramid), under phases it names.
@@ -119,10 +131,19 @@ class CubeColumnEncoder : public Encoder {
   LocalSvo svo_;
 
  private:
+  void countInsertion(BuildContext& context) const;
+
+  MapPart region_;
   uint32_t gridLevels_;
   VoxelDagBuilder dag_;
   TileColumns columns_;
   uint32_t tileSize_ = 0;
 };
+
+// A construction of one CPVS scheme over a region (the whole map, or a part).
+using CubeColumnConstruction = std::function<std::unique_ptr<CubeColumnEncoder>(
+    const MapInfo&, const VoxelDagConfig&, const ParamValues&, const MapPart& region)>;
+// Gives a CPVS scheme its whole build and its build in parts from its construction.
+void setCubeColumnBuilds(SchemeInfo& info, CubeColumnConstruction construction);
 
 }  // namespace sb

@@ -1,6 +1,7 @@
 #include "schemes/shared/voxel_dag.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -28,6 +29,26 @@ VoxelDagShape VoxelDagShape::of(const MapInfo& map, LeafLayout layout) {
   return {uint32_t(std::countr_zero(map.resolution)), layout};
 }
 
+namespace {
+
+// What a CPVS build holds beside its tiles and its DAG: the harness's tile buffers and the
+// allocator's slack (measured above the process's baseline on city closed at 2K²: 34 MiB).
+constexpr uint64_t kBuildSlackBytes = uint64_t(32) << 20;
+// Bytes a build holds per byte of the final DAG at its peak: while the DAG grows, each node's
+// words, its offset, its hash and two slots of a table kept at most half full (about 3×); at
+// the end the laid-out copy and the lit counts of every node (measured: 4.7× on city closed from
+// 8K² to 256K²).
+constexpr uint64_t kDagBuildFactor = 5;
+
+// The DAG a CPVS of side R grows to. With closed objects it scales as the silhouettes, a curve
+// (Kämpe 2015 §3.1), and hash-consing shares more as R grows: measured on cpvs-fast city:full
+// closed, 9.9 MiB at 4K², 29.7 MiB at 16K², 244 MiB at 256K² (issue 12), i.e. R^0.77.
+uint64_t expectedDagBytes(uint32_t resolution) {
+  return uint64_t(10.0 * double(1 << 20) * std::pow(double(resolution) / 4096.0, 0.77));
+}
+
+}  // namespace
+
 SchemeInfo voxelDagScheme(std::string name, std::string paper) {
   SchemeInfo info;
   info.name = name;
@@ -45,7 +66,13 @@ SchemeInfo voxelDagScheme(std::string name, std::string paper) {
   };
   info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape& shape) {
     const uint64_t tile = std::min(map.resolution, shape.tileSize);
-    return tile * tile * 24 + (uint64_t(64) << 20);
+    const uint64_t tileArrays = tile * tile * 24, dag = expectedDagBytes(map.resolution);
+    if (!shape.inParts(map)) return kBuildSlackBytes + tileArrays + kDagBuildFactor * dag;
+    // A part's DAG, and so its payload, taken as the part's share of the map's side: above the
+    // measured share (city closed 8K² in parts of 2K²: 13% of the DAG, not 25%).
+    const uint64_t part = dag * shape.partSize / map.resolution;
+    return kBuildSlackBytes +
+           std::max(tileArrays + kDagBuildFactor * part, kDagBuildFactor * dag + part);
   };
   info.load = [](ByteReader& in, const MapInfo& map, const ParamValues& params) {
     const VoxelDagConfig config = voxelDagConfig(map, params);
@@ -88,13 +115,6 @@ namespace {
 
 uint32_t childCode(uint32_t header, uint32_t child) {
   return childFlag(header, int(child));
-}
-// Bit 2c is set for each partial child c (code 0b10).
-uint32_t partialBits(uint32_t header) {
-  return (header >> 1) & ~header & 0x5555u;
-}
-uint32_t nodeWords(uint32_t header) {
-  return 1 + uint32_t(std::popcount(partialBits(header)));
 }
 // The position of child c's pointer among the node's words.
 uint32_t pointerSlot(uint32_t header, uint32_t child) {
@@ -164,6 +184,12 @@ uint64_t VoxelDagBuilder::nodeCount() const {
 uint64_t VoxelDagBuilder::leafmaskCount() const {
   return leafmasks_->count();
 }
+std::span<const uint32_t> VoxelDagBuilder::storedNodes(uint32_t depth) const {
+  return depths_.at(depth)->words;
+}
+std::span<const uint64_t> VoxelDagBuilder::storedLeafmasks() const {
+  return leafmasks_->masks;
+}
 
 VoxelDag VoxelDagBuilder::finish(DagRef root, uint32_t gridLevels) {
   const uint32_t leafParent = shape_.leafParentDepth();
@@ -211,7 +237,7 @@ VoxelDag VoxelDagBuilder::finish(DagRef root, uint32_t gridLevels) {
       const uint32_t* words = table.words.data() + table.offsets[id];
       const uint32_t occupancy = uint32_t(std::lround(65535.0 * double(litVoxels[d][id]) / volume));
       dag.nodes.push_back((words[0] & 0xffffu) | occupancy << 16);
-      for (uint32_t w = 1; w < nodeWords(words[0]); ++w)
+      for (uint32_t w = 1; w < nodeWordCount(words[0]); ++w)
         dag.nodes.push_back(
             d == leafParent ? words[w] : uint32_t(base[d + 1]) + depths_[d + 1]->offsets[words[w]]);
     }
@@ -438,6 +464,13 @@ std::unique_ptr<Decoder> makeVoxelDagDecoder(VoxelDag dag) {
   return std::make_unique<VoxelDagDecoder>(std::move(dag));
 }
 
+std::unique_ptr<Decoder> finishVoxelDag(VoxelDagBuilder& dag, DagRef root, uint32_t gridLevels,
+                                        BuildContext& context) {
+  context.count("dag nodes", dag.nodeCount());
+  context.count("dag leafmasks", dag.leafmaskCount());
+  return makeVoxelDagDecoder(dag.finish(root, gridLevels));
+}
+
 std::unique_ptr<Decoder> loadVoxelDag(ByteReader& in, const VoxelDagShape& shape,
                                       uint32_t gridLevels) {
   VoxelDag dag;
@@ -465,7 +498,7 @@ std::unique_ptr<Decoder> loadVoxelDag(ByteReader& in, const VoxelDagShape& shape
         if (childCode(header, c) == 3)
           throw FormatError(fmt::format("CPVS: invalid child code in the node at word {}", w));
       nodeStart[w] = true;
-      w += nodeWords(header);
+      w += nodeWordCount(header);
       if (w > dag.depthBegin[level + 1])
         throw FormatError(
             fmt::format("CPVS: a node at depth {} overruns its depth", gridLevels + level));
@@ -480,7 +513,7 @@ std::unique_ptr<Decoder> loadVoxelDag(ByteReader& in, const VoxelDagShape& shape
   for (uint32_t level = 0; level + 1 < dag.depthBegin.size(); ++level) {
     const uint32_t depth = gridLevels + level;
     for (uint64_t w = dag.depthBegin[level]; w < dag.depthBegin[level + 1];) {
-      const uint32_t words = nodeWords(dag.nodes[w]);
+      const uint32_t words = nodeWordCount(dag.nodes[w]);
       for (uint32_t p = 1; p < words; ++p) {
         const uint32_t pointer = dag.nodes[w + p];
         if (depth == leafParent) {

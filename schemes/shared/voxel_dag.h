@@ -9,6 +9,7 @@
 #include <bit>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,6 +35,18 @@ inline bool isNodeRef(DagRef ref) {
 
 // Sintorn §4: 16-bit childmasks, two bits per child.
 inline constexpr uint32_t kChildLit = 0, kChildShadowed = 1, kChildPartial = 2;
+// The childmask of a node whose children are all lit or all shadowed: never stored, the builder
+// collapses such a node to kLitRef / kShadowedRef.
+inline constexpr uint32_t kAllLitChildmask = 0, kAllShadowedChildmask = 0x5555;
+
+// Bit 2c is set for each partial child c (code 0b10).
+inline uint32_t partialBits(uint32_t header) {
+  return (header >> 1) & ~header & 0x5555u;
+}
+// A node's words: its header, then one pointer per partial child.
+inline uint32_t nodeWordCount(uint32_t header) {
+  return 1 + uint32_t(std::popcount(partialBits(header)));
+}
 
 // The octree over R × R × R voxels (Rz = R): depth d holds cubes of side 2^(levels − d); the
 // deepest node depth, levels − 3, holds the parents of the leafmasks (cubes of side 8).
@@ -111,8 +124,13 @@ class VoxelDagBuilder {
   // A node at `depth` from its children's references (ids at depth + 1, or leafmask ids).
   DagRef node(uint32_t depth, const std::array<DagRef, 8>& children);
 
+  const VoxelDagShape& shape() const { return shape_; }
   uint64_t nodeCount() const;
   uint64_t leafmaskCount() const;
+  // The distinct nodes at `depth` in id order, each as its header (childmask only) and one id
+  // per partial child; the distinct leafmasks in id order. What a part payload carries.
+  std::span<const uint32_t> storedNodes(uint32_t depth) const;
+  std::span<const uint64_t> storedLeafmasks() const;
 
   // Lays the DAG out for lookups with the top `gridLevels` levels replaced by a grid.
   VoxelDag finish(DagRef root, uint32_t gridLevels);
@@ -125,6 +143,10 @@ class VoxelDagBuilder {
 };
 
 std::unique_ptr<Decoder> makeVoxelDagDecoder(VoxelDag dag);
+// The end of every CPVS build, whole or merged from parts: the DAG laid out under `root` with
+// its counters ("dag nodes", "dag leafmasks") reported.
+std::unique_ptr<Decoder> finishVoxelDag(VoxelDagBuilder& dag, DagRef root, uint32_t gridLevels,
+                                        BuildContext& context);
 // Reads and validates what the decoder's save() wrote; throws FormatError.
 std::unique_ptr<Decoder> loadVoxelDag(ByteReader& in, const VoxelDagShape& shape,
                                       uint32_t gridLevels);

@@ -13,6 +13,7 @@
 #include "schemes/shared/slice_interval.h"
 #include "schemes/shared/svo.h"
 #include "schemes/shared/voxel_dag.h"
+#include "schemes/shared/voxel_parts_test_support.h"
 #include "tests/support/synthetic_map.h"
 
 namespace sb {
@@ -189,6 +190,61 @@ TEST_CASE("culling changes the work of cpvs-fast, never the structure", "[voxel]
     const auto built = map.build(fast, {{"culling", "off"}}, 32);
     CHECK(culled->size() == built->size());
     CHECK(mismatches(map, *culled, 4) == 0);
+  }
+}
+
+// Builds in parts (voxel_dag_parts.h): hash-consing across parts and joining the parts' columns
+// as the tiles' columns are joined reproduces the whole build's DAG exactly, so a part border
+// costs nothing; every voxel answers as the map says.
+TEST_CASE("a CPVS merged from parts is the whole build's DAG", "[voxel][parts]") {
+  struct Case {
+    uint32_t resolution, tile;
+    std::vector<uint32_t> partSizes;
+  };
+  for (const char* name : {"cpvs", "cpvs-fast"})
+    for (const Case& shape : {Case{64, 8, {8, 16, 32}}, Case{128, 16, {16, 64}}})
+      for (DepthMode mode : {DepthMode::Open, DepthMode::Closed, DepthMode::Static})
+        for (const char* layout : {"cube4", "slab8"})
+          for (const char* grid : {"0", "2"}) {
+            const SchemeInfo& scheme = findScheme(name);
+            const Params params{{"leaf-layout", layout}, {"grid-levels", grid}};
+            const SyntheticMap map =
+                SyntheticMap::random(shape.resolution, mode, shape.resolution + 3 * int(mode));
+            testing::CountingContext wholeCounts;
+            const auto whole = testing::buildWhole(map, scheme, params, shape.tile, wholeCounts);
+            for (uint32_t partSize : shape.partSizes) {
+              INFO(name << " " << toString(mode) << " " << layout << " grid " << grid << ", "
+                        << shape.resolution << "² in parts of " << partSize << "², tile "
+                        << shape.tile);
+              testing::CountingContext mergedCounts;
+              const auto merged = testing::mergeParts(
+                  map, scheme, params, shape.tile, partSize,
+                  testing::partPayloads(map, scheme, params, shape.tile, partSize), mergedCounts);
+              CHECK(mergedCounts.counts.at("dag nodes") == wholeCounts.counts.at("dag nodes"));
+              CHECK(mergedCounts.counts.at("dag leafmasks") ==
+                    wholeCounts.counts.at("dag leafmasks"));
+              CHECK(merged->size() == whole->size());
+              if (shape.resolution == 64) CHECK(mismatches(map, *merged, partSize) == 0);
+            }
+          }
+}
+
+// Issue 12 item 3: the estimate a build in parts is checked against follows the part size, and
+// the merge holds the whole DAG as a whole build does at its end.
+TEST_CASE("the CPVS memory estimate in parts follows the part size", "[voxel][parts]") {
+  for (const char* name : {"cpvs", "cpvs-fast"}) {
+    const SchemeInfo& scheme = findScheme(name);
+    const ParamValues params = scheme.resolve({});
+    const MapInfo map{262144, 262144, DepthMode::Closed};
+    const uint64_t whole = scheme.buildBytes(map, params, {512});
+    uint64_t previous = 0;
+    for (uint32_t partSize : {512u, 4096u, 16384u, 65536u}) {
+      INFO(name << " parts of " << partSize);
+      const uint64_t inParts = scheme.buildBytes(map, params, {512, partSize});
+      CHECK(inParts > previous);
+      CHECK(inParts >= whole - uint64_t(512) * 512 * 24);
+      previous = inParts;
+    }
   }
 }
 
