@@ -400,7 +400,6 @@ class CompressedSmPartEncoder final : public PartEncoder {
       all.starts.insert(all.starts.end(), row.starts.begin(), row.starts.end());
       all.slopes.insert(all.slopes.end(), row.slopes.begin(), row.slopes.end());
     }
-    context.count("segments", all.count());
     out.putArray<uint32_t>(rowIndex);
     out.putArray<uint32_t>(all.firstColumns);
     out.putArray<float>(all.starts);
@@ -552,8 +551,8 @@ SchemeInfo compressedSm() {
   info.kind = SchemeKind::Depth;
   info.params = {
       ParamSpec::integer("segment-span",
-                         "columns after which every scanline's segments close (parts built on "
-                         "their own are multiples of it)",
+                         "every scanline's segments close at the multiples of this column; a "
+                         "build in parts fits parts of a multiple of it on their own",
                          16384, 16, int64_t(1) << 30, {1024, 16384})
           .satisfying("a power of two",
                       [](int64_t span) { return std::has_single_bit(uint64_t(span)); })};
