@@ -5,10 +5,14 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "schemes/compressed-sm/compressed_sm.h"
+#include "schemes/interface/parts.h"
 #include "schemes/interface/serial.h"
 #include "tests/support/synthetic_map.h"
 
@@ -45,6 +49,53 @@ size_t texelsOutsideIntervals(const Decoder& decoder, const SyntheticMap& map) {
   size_t wrong = 0;
   for (size_t q = 0; q < got.size(); ++q) wrong += got[q] != expected[q];
   return wrong;
+}
+
+std::vector<uint8_t> saved(const Decoder& decoder) {
+  ByteWriter out;
+  decoder.save(out);
+  return out.release();
+}
+
+// The payloads of every part of `map` in parts of `partSize`, in part order.
+std::vector<std::vector<uint8_t>> partPayloads(const SyntheticMap& map, const Params& params,
+                                               uint32_t tileSize, uint32_t partSize) {
+  const SchemeInfo& scheme = findScheme("compressed-sm");
+  testing::NullBuildContext context;
+  const MapInfo info = map.info(scheme.kind);
+  const uint64_t tilesPerPart = uint64_t(partSize / tileSize) * (partSize / tileSize);
+  std::vector<std::vector<uint8_t>> payloads;
+  for (uint64_t index = 0; index < MapPart::countFor(info, partSize); ++index) {
+    auto encoder = scheme.makePartEncoder(info, MapPart::of(index, partSize),
+                                          scheme.resolve(params), BuildShape{tileSize, partSize});
+    map.stream(
+        tileSize, [&](const DualDepthTile& tile) { encoder->consume(tile, context); },
+        index * tilesPerPart, (index + 1) * tilesPerPart);
+    ByteWriter payload;
+    encoder->finish(payload, context);
+    payloads.push_back(payload.release());
+  }
+  return payloads;
+}
+
+// Merges part payloads of parts of `partSize` given one after another in `bytes`.
+std::unique_ptr<Decoder> mergeAll(const SyntheticMap& map, const Params& params, uint32_t partSize,
+                                  std::span<const uint8_t> bytes) {
+  const SchemeInfo& scheme = findScheme("compressed-sm");
+  testing::NullBuildContext context;
+  const MapInfo info = map.info(scheme.kind);
+  auto merger = scheme.makePartMerger(info, scheme.resolve(params), BuildShape{partSize, partSize});
+  ByteReader in(bytes);
+  for (uint64_t index = 0; index < MapPart::countFor(info, partSize); ++index)
+    merger->add(MapPart::of(index, partSize), in, context);
+  in.expectEnd();
+  return merger->finish(context);
+}
+
+std::vector<uint8_t> concatenated(const std::vector<std::vector<uint8_t>>& payloads) {
+  std::vector<uint8_t> all;
+  for (const auto& payload : payloads) all.insert(all.end(), payload.begin(), payload.end());
+  return all;
 }
 
 }  // namespace
@@ -190,4 +241,193 @@ TEST_CASE("compressed-sm: the loader rejects a row index past the segments", "[c
   }
   ByteReader intact(payload.bytes());
   CHECK_NOTHROW(scheme.load(intact, map.info(scheme.kind), scheme.resolve({})));
+}
+
+TEST_CASE("compressed-sm: segments close at every multiple of the span", "[compressed-sm]") {
+  const SchemeInfo& scheme = findScheme("compressed-sm");
+  const uint32_t r = 64;
+  SyntheticMap map{r, DepthMode::Open, {}, {}};
+  map.lo.resize(size_t(r) * r);
+  for (uint32_t j = 0; j < r; ++j)
+    for (uint32_t i = 0; i < r; ++i)  // one exact line per scanline, as in the test above
+      map.lo[size_t(j) * r + i] = 0.25f + float(j) / 256.0f + float(i) / 4096.0f;
+  map.hi = map.lo;
+  for (uint32_t span : {16u, 32u}) {
+    INFO("span " << span);
+    const auto decoder = map.build(scheme, {{"segment-span", std::to_string(span)}}, 16);
+    CHECK(bytesOf(decoder->size(), "segments") == r * (r / span) * 12);
+    CHECK(texelsOutsideIntervals(*decoder, map) == 0);
+  }
+  // The default span reaches past this map: whole scanlines, one segment each.
+  CHECK(bytesOf(map.build(scheme, {}, 16)->size(), "segments") == r * 12);
+}
+
+TEST_CASE("compressed-sm: the span is a power of two of at least 16", "[compressed-sm]") {
+  const SchemeInfo& scheme = findScheme("compressed-sm");
+  for (const char* bad : {"100", "8", "0"})
+    CHECK_THROWS_WITH(scheme.resolve({{"segment-span", bad}}),
+                      Catch::Contains("compressed-sm") && Catch::Contains("segment-span"));
+  CHECK(scheme.resolve({}).integer("segment-span") == 16384);
+}
+
+TEST_CASE("compressed-sm: a build in parts saves the whole build's bytes",
+          "[compressed-sm][parts]") {
+  // Parts whose side is a multiple of the span fit their rows on their own; smaller ones hand
+  // their texels to the merger. Both give the whole build's structure, byte for byte.
+  const SchemeInfo& scheme = findScheme("compressed-sm");
+  for (DepthMode mode : {DepthMode::Open, DepthMode::Closed, DepthMode::Static})
+    for (const char* span : {"16", "32", "16384"})
+      for (uint32_t partSize : {16u, 32u, 64u}) {
+        INFO(toString(mode) << " span " << span << " parts of " << partSize);
+        const SyntheticMap map = SyntheticMap::random(128, mode, 0xc5 + int(mode) + partSize);
+        const Params params{{"segment-span", span}};
+        const std::vector<uint8_t> whole = saved(*map.build(scheme, params, 16));
+        CHECK(saved(*map.buildInParts(scheme, params, 16, partSize)) == whole);
+        CHECK(saved(*map.buildInParts(scheme, params, 8, partSize)) == whole);
+      }
+}
+
+TEST_CASE("compressed-sm: parts smaller than the span carry their texels",
+          "[compressed-sm][parts]") {
+  const SyntheticMap map = SyntheticMap::random(32, DepthMode::Closed, 9);
+  const size_t texelPayload = 2 * (sizeof(uint64_t) + 16 * 16 * sizeof(float));
+  for (const auto& payload : partPayloads(map, {}, 8, 16)) CHECK(payload.size() == texelPayload);
+  for (const auto& payload : partPayloads(map, {{"segment-span", "16"}}, 8, 16))
+    CHECK(payload.size() < texelPayload);
+}
+
+TEST_CASE("compressed-sm: the merger takes parts in order only", "[compressed-sm][parts]") {
+  const SchemeInfo& scheme = findScheme("compressed-sm");
+  const SyntheticMap map = SyntheticMap::random(32, DepthMode::Closed, 4);
+  const auto payloads = partPayloads(map, {}, 16, 16);
+  testing::NullBuildContext context;
+  auto merger =
+      scheme.makePartMerger(map.info(scheme.kind), scheme.resolve({}), BuildShape{16, 16});
+  ByteReader in(payloads[1]);
+  CHECK_THROWS_WITH(merger->add(MapPart::of(1, 16), in, context),
+                    Catch::Contains("part 1") && Catch::Contains("part 0"));
+  CHECK_THROWS_WITH(merger->finish(context), Catch::Contains("0 of 4 parts"));
+}
+
+namespace {
+
+// A part payload format pinned by a golden file: a 32² closed map in parts of 16², every part's
+// payload one after another, with the default span (texels) and a span of 16 (segments).
+struct GoldenParts {
+  Params params;
+  std::string path() const {
+    std::string name = "compressed-sm";
+    for (const auto& [param, value] : params) name += "_" + param + "-" + value;
+    return "tests/golden/" + name + ".part";
+  }
+};
+
+const std::vector<GoldenParts> kGoldenParts{{{}}, {{{"segment-span", "16"}}}};
+constexpr uint64_t kGoldenPartsSeed = 0x9011;
+
+std::vector<uint8_t> readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Every texel's stored depth read back at its bounds: a structure that validates must answer
+// them without reading out of bounds (the sanitizers watch).
+void touchEveryTexel(const Decoder& decoder, uint32_t r) {
+  std::vector<Query> queries;
+  for (uint32_t j = 0; j < r; ++j)
+    for (uint32_t i = 0; i < r; ++i) queries.push_back({(i + 0.5f) / r, (j + 0.5f) / r, 0.5f});
+  std::vector<float> answers(queries.size());
+  decoder.lookup(queries, 3, answers);
+}
+
+}  // namespace
+
+// Regenerate deliberately with SHADOWBENCH_UPDATE_GOLDEN=1 when the part format changes.
+TEST_CASE("compressed-sm: part payloads match their golden files",
+          "[compressed-sm][parts][format]") {
+  const SchemeInfo& scheme = findScheme("compressed-sm");
+  const SyntheticMap map = SyntheticMap::random(32, DepthMode::Closed, kGoldenPartsSeed);
+  for (const GoldenParts& golden : kGoldenParts) {
+    const std::string path = golden.path();
+    INFO("golden file " << path << " (create it with SHADOWBENCH_UPDATE_GOLDEN=1)");
+    const std::vector<uint8_t> payloads = concatenated(partPayloads(map, golden.params, 16, 16));
+    if (std::getenv("SHADOWBENCH_UPDATE_GOLDEN")) {
+      std::ofstream out(path, std::ios::binary);
+      out.write(reinterpret_cast<const char*>(payloads.data()), std::streamsize(payloads.size()));
+    }
+    const std::vector<uint8_t> pinned = readBytes(path);
+    REQUIRE(!pinned.empty());
+    CHECK(pinned == payloads);
+    CHECK(saved(*mergeAll(map, golden.params, 16, pinned)) ==
+          saved(*map.build(scheme, golden.params, 16)));
+  }
+}
+
+TEST_CASE("compressed-sm: the merger refuses every truncated or corrupted part payload",
+          "[compressed-sm][parts][format]") {
+  const SchemeInfo& scheme = findScheme("compressed-sm");
+  const SyntheticMap map = SyntheticMap::random(32, DepthMode::Closed, kGoldenPartsSeed);
+  const MapInfo info = map.info(scheme.kind);
+  testing::NullBuildContext context;
+  for (const GoldenParts& golden : kGoldenParts) {
+    INFO(golden.path());
+    const ParamValues params = scheme.resolve(golden.params);
+    const auto payloads = partPayloads(map, golden.params, 16, 16);
+    // Part 3 is merged last, after its neighbours; a refused payload leaves the merger as it was,
+    // so the intact one is then accepted.
+    auto merger = scheme.makePartMerger(info, params, BuildShape{16, 16});
+    for (uint64_t index = 0; index < 3; ++index) {
+      ByteReader in(payloads[index]);
+      merger->add(MapPart::of(index, 16), in, context);
+    }
+    const std::vector<uint8_t>& last = payloads[3];
+    for (size_t length = 0; length < last.size(); ++length) {
+      ByteReader in(std::span<const uint8_t>(last).first(length));
+      INFO("payload truncated to " << length << " bytes");
+      CHECK_THROWS_WITH(merger->add(MapPart::of(3, 16), in, context),
+                        Catch::Contains("compressed-sm part 3"));
+    }
+    // Every byte flipped: refused, or a structure that validates as a loaded file does and
+    // answers without reading out of bounds; the counts, the row index and a value that breaks
+    // the format must be refused.
+    size_t refused = 0;
+    for (size_t at = 0; at < last.size(); ++at) {
+      std::vector<uint8_t> corrupted = last;
+      corrupted[at] ^= uint8_t(1u << (at % 8));
+      auto fresh = scheme.makePartMerger(info, params, BuildShape{16, 16});
+      try {
+        for (uint64_t index = 0; index < 4; ++index) {
+          ByteReader in(index == 3 ? std::span<const uint8_t>(corrupted)
+                                   : std::span<const uint8_t>(payloads[index]));
+          fresh->add(MapPart::of(index, 16), in, context);
+        }
+        const auto merged = fresh->finish(context);
+        const std::vector<uint8_t> bytes = saved(*merged);
+        ByteReader reload(bytes);
+        const auto loaded = scheme.load(reload, info, params);
+        touchEveryTexel(*loaded, 32);
+      } catch (const FormatError& error) {
+        CHECK_THAT(error.what(), Catch::Contains("compressed-sm part 3"));
+        ++refused;
+      }
+    }
+    CHECK(refused > 0);
+    for (size_t at : {size_t(0), size_t(7)}) {  // the first array's count
+      std::vector<uint8_t> corrupted = last;
+      corrupted[at] ^= 0x40;
+      ByteReader in(corrupted);
+      CHECK_THROWS_AS(merger->add(MapPart::of(3, 16), in, context), FormatError);
+    }
+    {
+      std::vector<uint8_t> corrupted = last;
+      const float nan = std::numeric_limits<float>::quiet_NaN();
+      std::memcpy(corrupted.data() + corrupted.size() - sizeof(float), &nan, sizeof nan);
+      ByteReader in(corrupted);
+      CHECK_THROWS_AS(merger->add(MapPart::of(3, 16), in, context), FormatError);
+    }
+    ByteReader intact(last);
+    merger->add(MapPart::of(3, 16), intact, context);
+    intact.expectEnd();
+    CHECK(saved(*merger->finish(context)) == saved(*map.build(scheme, golden.params, 16)));
+  }
 }
