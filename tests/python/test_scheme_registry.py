@@ -9,7 +9,7 @@ from scheme_registry import (RegistryUnavailable, parse_schemes_json, scheme_def
 # What `shadowbench schemes` prints (the registry's text output), written out independently of
 # the JSON fixture: every scheme and the default of each parameter.
 REGISTRY_DEFAULTS = {
-    "compressed-sm": {}, "mh": {}, "openvdb": {}, "sm32": {},
+    "compressed-sm": {"segment-span": "16384"}, "mh": {}, "openvdb": {}, "sm32": {},
     "cpvs": {"leaf-layout": "slab8", "grid-levels": "0"},
     "cpvs-fast": {"leaf-layout": "slab8", "grid-levels": "0", "culling": "on",
                   "transitions": "aligned"},
