@@ -88,12 +88,15 @@ sb=$build_dir/harness/shadowbench
 
 # One `shadowbench sweep` into this table's records: finished cells are skipped, so a stopped
 # script resumes. A failed or mismatched cell does not stop the script; it sets its exit status.
+# Cells above the part size are built in parts; `sweep_part_size=4K sweep …` sets another for one
+# sweep, and `sweep_part_size=whole sweep …` builds every cell whole.
 status=0
 sweep() {
-  echo "shadowbench sweep --part-size $part_size $*${sweep_args[*]:+ ${sweep_args[*]}}" | tee -a "$log"
+  local parts=(--part-size "${sweep_part_size:-$part_size}" --parts "$out/parts")
+  [ "${sweep_part_size:-}" != whole ] || parts=()
+  echo "shadowbench sweep ${parts[*]:+${parts[*]} }$*${sweep_args[*]:+ ${sweep_args[*]}}" | tee -a "$log"
   local rc=0
-  "$sb" sweep --out "$records" --part-size "$part_size" --parts "$out/parts" "$@" \
-    "${sweep_args[@]}" >>"$log" || rc=$?
+  "$sb" sweep --out "$records" "${parts[@]}" "$@" "${sweep_args[@]}" >>"$log" || rc=$?
   [ $rc -ne 2 ] || exit 2 # refused its arguments (shadowbench said why); nothing was built
   [ $rc -eq 0 ] || status=1
   grep '^sweep:' "$log" | tail -n 1

@@ -7,7 +7,7 @@ and the tables that set every lossless scheme side by side.
 
 TABLE is one of sintorn2014-fig9, kampe2015-table1 … kampe2015-table4, cpvs-lookup (CPVS),
 scandolo2016-table1 … table3, scandolo2016-fig8, scandolo2021-table1 … table4, mh-lookup (MH
-family), compare-size, compare-lookup (every scheme, no paper); the Markdown goes to standard
+family), compare-size, compare-lookup (every scheme, no paper), parts-cost (builds whole and in parts); the Markdown goes to standard
 output. Records are read as scripts/records.py reads them (files that do not count are named on
 standard error; of a cell's records the newest counts, the others named), the schemes' default
 parameters come from `shadowbench schemes --json` (scripts/scheme_registry.py). Columns are our
@@ -25,6 +25,7 @@ from records import SchemaUnavailable, read_records  # noqa: E402
 from scheme_registry import RegistryUnavailable, scheme_defaults  # noqa: E402
 
 import compare_tables  # noqa: E402
+import parts_tables  # noqa: E402
 import cpvs_tables  # noqa: E402
 import mh_tables  # noqa: E402
 from cells import Cells, TableError  # noqa: E402
@@ -48,6 +49,7 @@ TABLES = {
     "mh-lookup": mh_tables.mh_lookup,
     "compare-size": compare_tables.compare_size,
     "compare-lookup": compare_tables.compare_lookup,
+    "parts-cost": parts_tables.parts_cost,
 }
 
 
