@@ -1,5 +1,6 @@
 #include "harness/cell.h"
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 
@@ -15,6 +16,12 @@
 #include "schemes/interface/serial.h"
 
 namespace sb {
+
+uint32_t CellSpec::effectiveTileSize() const {
+  if (tileSize) return tileSize;
+  const uint32_t tile = defaultTileSize(resolution);
+  return partSize ? std::min(tile, partSize) : tile;
+}
 
 Light sceneLight(const Scene& scene, uint32_t index) {
   if (index >= scene.lights.size())
@@ -47,7 +54,8 @@ Record identityOf(const CellSpec& cell, const Scene& scene, const SchemeInfo& sc
   for (const auto& [name, value] : values.text()) record.scheme.params[name] = value;
   record.scheme.paper = scheme.paper;
   record.resolution = cell.resolution;
-  record.tileSize = cell.tileSize ? cell.tileSize : defaultTileSize(cell.resolution);
+  record.tileSize = cell.effectiveTileSize();
+  record.partSize = cell.partSize;
   return record;
 }
 
@@ -81,14 +89,9 @@ std::vector<ResolvedCell> resolveCells(std::span<const CellSpec> cells, const Sc
     // Resolved once, here where the build starts; the scheme receives them typed.
     ParamValues params = scheme.resolve(cell.params);
     Record record = identityOf(cell, scene, scheme, params);
-    record.partSize = cell.partSize;
     resolved.push_back({&scheme, std::move(params), std::move(record)});
   }
   return resolved;
-}
-
-BuildShape shapeOf(const CellSpec& cell) {
-  return {cell.tileSize ? cell.tileSize : defaultTileSize(cell.resolution), cell.partSize};
 }
 
 std::string labelOf(const CellSpec& cell, const Scene& scene, std::string_view schemes) {
@@ -171,7 +174,7 @@ PartsTarget targetOf(const ResolvedCell& cell, const CellSpec& spec, const Scene
 // Refuses, before the depth source spends time on the scene, any cell whose build would not fit.
 // Whole builds from one pass hold every encoder at once; parts hold one part of each.
 void checkCellsFit(std::span<const ResolvedCell> cells, const CellSpec& spec) {
-  const BuildShape shape = shapeOf(spec);
+  const BuildShape shape = spec.shape();
   uint64_t together = 0;
   for (const ResolvedCell& cell : cells) {
     const MapInfo map = mapFor(*cell.scheme, spec.mode, spec.resolution);
@@ -205,7 +208,7 @@ PartsEncoded encodeCellParts(std::span<const CellSpec> cells, const Scene& scene
   const DepthSource source(scene, sceneLight(scene, spec.lightIndex), spec.mode, spec.resolution);
   std::optional<Progress> progress;
   const PartsEncoded encoded =
-      encodeParts(source, targets, shapeOf(spec), only, [&](uint64_t done, uint64_t total) {
+      encodeParts(source, targets, spec.shape(), only, [&](uint64_t done, uint64_t total) {
         if (!progress)
           progress.emplace("parts " + labelOf(spec, scene, schemeNames(resolved)), total, "parts");
         progress->set(done);
@@ -218,7 +221,7 @@ Record mergeCell(const CellSpec& cell, const Scene& scene, const CellOptions& op
   checkCellsFit(resolved, cell);
   const DepthSource source(scene, sceneLight(scene, cell.lightIndex), cell.mode, cell.resolution);
   const PartsTarget target = targetOf(resolved[0], cell, scene, options);
-  const BuildOutcome built = mergeParts(target, cell.mode, cell.resolution, shapeOf(cell));
+  const BuildOutcome built = mergeParts(target, cell.mode, cell.resolution, cell.shape());
   return finishRecord(resolved[0].record, *resolved[0].scheme, built, scene, source, options,
                       labelOf(cell, scene, resolved[0].scheme->name));
 }
@@ -238,8 +241,8 @@ void runCells(std::span<const CellSpec> cells, const Scene& scene, const CellOpt
   for (const ResolvedCell& cell : resolved) builds.push_back({cell.scheme, cell.params});
   const std::string label = labelOf(spec, scene, schemeNames(resolved));
   Progress building("build " + label, uint64_t(spec.resolution) * spec.resolution, "texels");
-  std::vector<BuildOutcome> built = buildStructures(source, builds, shapeOf(spec),
-                                                    [&](uint64_t texels) { building.set(texels); });
+  std::vector<BuildOutcome> built =
+      buildStructures(source, builds, spec.shape(), [&](uint64_t texels) { building.set(texels); });
   building.finish();
   for (size_t c = 0; c < cells.size(); ++c) {
     done(c, finishRecord(resolved[c].record, *resolved[c].scheme, built[c], scene, source, options,

@@ -28,8 +28,11 @@ struct CellSpec {
   std::string scheme = "sm32";
   Params params;
   uint32_t resolution = 1024;
-  uint32_t tileSize = 0;  // 0: defaultTileSize
+  uint32_t tileSize = 0;  // 0: defaultTileSize, or the part size when that is smaller
   uint32_t partSize = 0;  // a build in parts of this side (DESIGN §5); 0: a whole build
+
+  uint32_t effectiveTileSize() const;
+  BuildShape shape() const { return {effectiveTileSize(), partSize}; }
 };
 
 struct CellOptions {

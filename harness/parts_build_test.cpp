@@ -35,9 +35,7 @@ CellOptions quickOptions(const std::filesystem::path& partsRoot) {
 }
 
 std::filesystem::path folderOf(const CellSpec& cell, const CellOptions& options) {
-  Record identity = cellIdentity(cell, smallCity());
-  identity.partSize = cell.partSize;
-  return partsFolder(options.partsRoot, identity);
+  return partsFolder(options.partsRoot, cellIdentity(cell, smallCity()));
 }
 
 std::vector<uint8_t> readBytes(const std::filesystem::path& path) {
@@ -173,9 +171,8 @@ TEST_CASE("a part file of another build is refused, naming what differs, and kep
     const CellOptions otherOptions = quickOptions(otherDir.path());
     const std::vector<CellSpec> one = {foreign.spec};
     encodeCellParts(one, scene, otherOptions, 0);
-    Record identity = cellIdentity(foreign.spec, scene);
-    identity.partSize = foreign.spec.partSize;
-    const std::filesystem::path stray = partFilePath(partsFolder(otherDir.path(), identity), 0);
+    const std::filesystem::path stray =
+        partFilePath(partsFolder(otherDir.path(), cellIdentity(foreign.spec, scene)), 0);
     const std::vector<uint8_t> original = readBytes(partFilePath(folder, 0));
     std::filesystem::copy_file(stray, partFilePath(folder, 0),
                                std::filesystem::copy_options::overwrite_existing);

@@ -109,7 +109,7 @@ SweepPlan plan(const SweepSpec& spec) {
           cell.legacyPath = spec.out / (readableCellKey(cell.identity) + ".json");
           if (!answering(cell.path, cell.identity) && !answering(cell.legacyPath, cell.identity)) {
             try {
-              const BuildShape shape{cell.identity.tileSize, cell.spec.partSize};
+              const BuildShape shape = cell.spec.shape();
               const MapInfo map = mapFor(*scheme, mode, resolution);
               if (shape.partSize) checkPartShape(*scheme, map, shape);
               checkBuildFits(*scheme, map, scheme->resolve(cell.spec.params), shape);
@@ -238,8 +238,7 @@ class Sweeper {
       const uint64_t bytes =
           scheme.buildBytes
               ? scheme.buildBytes(mapFor(scheme, cell->spec.mode, cell->spec.resolution),
-                                  scheme.resolve(cell->spec.params),
-                                  BuildShape{cell->identity.tileSize, cell->spec.partSize})
+                                  scheme.resolve(cell->spec.params), cell->spec.shape())
               : 0;
       if (batches.empty() || held + bytes > available) batches.emplace_back(), held = 0;
       batches.back().push_back(cell);

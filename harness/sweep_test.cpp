@@ -224,3 +224,32 @@ TEST_CASE("a cell locked by another sweep is built once and reused after its loc
   CHECK(one.failed + two.failed == 0);
   CHECK(jsonFilesIn(spec.out).size() == 3);
 }
+
+// A sweep with a part size once reused the whole build's record for the cell in parts: the part
+// size was missing from the planned cell's identity.
+TEST_CASE("a sweep in parts is its own cell, built once, and its schemes share one depth pass",
+          "[sweep][parts][regression]") {
+  ScratchDir dir("sb-sweep-test");
+  sb::SweepSpec spec = tinySweep(dir.path() / "out");
+  spec.schemes = {"sm32", "sm-zstd"};
+  spec.resolutions = {"64", "128"};
+  spec.cellOptions.partsRoot = dir.path() / "parts";
+  std::vector<sb::Record> built;
+  sb::SweepEvents events;
+  events.built = [&](const sb::Record& record) { built.push_back(record); };
+  CHECK(sb::runSweep(spec, events).built == 4);
+  for (const sb::Record& record : built) {
+    INFO(record.scheme.name << " " << record.resolution);
+    CHECK(record.time->depthSharedWith.size() == 1);  // the other scheme of its map
+  }
+
+  spec.partSize = 64;  // sm32 at 128² in parts; sm-zstd builds only whole, and 64² is not above
+  const sb::SweepOutcome inParts = sb::runSweep(spec);
+  CHECK(inParts.built == 1);
+  CHECK(inParts.reused == 3);
+  CHECK(sb::runSweep(spec).reused == 4);
+  size_t partRecords = 0;
+  for (const std::string& name : jsonFilesIn(spec.out))
+    partRecords += sb::loadRecord(spec.out / name).partSize == 64;
+  CHECK(partRecords == 1);
+}

@@ -26,8 +26,7 @@ void printEstimate(const EstimateOptions& o) {
   uint64_t together = 0;
   for (const CellSpec& cell : cells) {
     const SchemeInfo& scheme = findScheme(cell.scheme);
-    const BuildShape shape{cell.tileSize ? cell.tileSize : defaultTileSize(cell.resolution),
-                           cell.partSize};
+    const BuildShape shape = cell.shape();
     const MapInfo map = mapFor(scheme, cell.mode, cell.resolution);
     const uint64_t bytes =
         scheme.buildBytes ? scheme.buildBytes(map, scheme.resolve(cell.params), shape) : 0;

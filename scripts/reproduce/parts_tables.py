@@ -71,9 +71,9 @@ def parts_cost(records, args):
         ["scheme", "scene", "R", "part", "whole MiB", "parts MiB", "difference", "whole s",
          "parts s", "whole peak", "parts peak", "estimate", "peak / estimate"], rows,
         label_columns=2))
-    lines.append("The merged structure answers every query as the whole build (tests/parts_test.cpp "
+    lines.extend(["The merged structure answers every query as the whole build (tests/parts_test.cpp "
                  "checks every texel at small sizes); a difference in size is what the scheme's "
                  "README says a part border costs. The estimate is the declared build memory the "
                  "build checked before it started (`memory.estimated_bytes`); the issue's target is "
-                 "a peak within 2× of it.")
+                 "a peak within 2× of it.", ""])
     return lines
