@@ -13,10 +13,12 @@ struct BuildOptions {
   MapOptions map;
   SchemeOptions schemes;
   PartOptions parts;
+  ThreadOptions threads;
   RecordOptions record;
 };
 
 int buildCells(const BuildOptions& o) {
+  const auto threadLimit = o.threads.apply();
   // Everything the scene is not needed for is checked before it is opened, and the light (in
   // runCells) before the depth pass: a typo or an output that cannot be written must not cost a
   // build (issue 11 A2, A9).
@@ -39,6 +41,7 @@ void addBuildCommand(CLI::App& app) {
       "build", "build schemes for a scene (one depth pass), verify, time lookups, record each");
   o->map.addTo(sub);
   o->schemes.addTo(sub, "sm32");
+  o->threads.addTo(sub);
   o->parts.addTo(sub, false);
   o->record.addTo(sub);
   sub->callback([o] { setExitStatus(buildCells(*o)); });

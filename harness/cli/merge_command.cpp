@@ -12,10 +12,12 @@ struct MergeOptions {
   MapOptions map;
   SchemeOptions schemes;
   PartOptions parts;
+  ThreadOptions threads;
   RecordOptions record;
 };
 
 int mergeCells(const MergeOptions& o) {
+  const auto threadLimit = o.threads.apply();
   const std::vector<CellSpec> cells = cellsOf(o.map, o.schemes, o.parts);
   o.record.checkOutputs(cells, o.map.scene);
   const Scene scene = openScene(o.map.scene);
@@ -35,6 +37,7 @@ void addMergeCommand(CLI::App& app) {
       "merge the part files of a build in parts into its structure, verify, time lookups, record");
   o->map.addTo(sub);
   o->schemes.addTo(sub, "mh");
+  o->threads.addTo(sub);
   o->parts.addTo(sub, true);
   o->record.addTo(sub);
   sub->callback([o] { setExitStatus(mergeCells(*o)); });

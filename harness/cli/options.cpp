@@ -139,6 +139,16 @@ std::vector<CellSpec> cellsOf(const MapOptions& map, const SchemeOptions& scheme
   return cells;
 }
 
+void ThreadOptions::addTo(CLI::App* app) {
+  app->add_option("--threads", threads, "threads to use (default: all)");
+}
+
+std::optional<tbb::global_control> ThreadOptions::apply() const {
+  std::optional<tbb::global_control> limit;
+  if (threads) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
+  return limit;
+}
+
 void RecordOptions::addTo(CLI::App* app) {
   app->add_option("--output,-o", output, "save the structure to this file (one scheme)");
   app->add_option("--results", results, "folder for the JSON records")->capture_default_str();

@@ -5,10 +5,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <tbb/global_control.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -78,6 +80,15 @@ struct RecordOptions {
 // Writes a built cell's record atomically into the results folder and prints its summary;
 // returns whether it has mismatches.
 bool writeCellRecord(const Record& record, const std::string& results);
+
+// --threads: at most this many threads (default: all), as a cluster job's share of a node.
+struct ThreadOptions {
+  uint32_t threads = 0;
+
+  void addTo(CLI::App* app);
+  // Holds the limit while it lives; none when no limit was given.
+  std::optional<tbb::global_control> apply() const;
+};
 
 // --sampled-queries: queries checked above the exhaustive resolution.
 void addSampledQueries(CLI::App* app, uint64_t& sampledQueries);

@@ -16,10 +16,12 @@ struct PartCommandOptions {
   MapOptions map;
   SchemeOptions schemes;
   PartOptions parts;
+  ThreadOptions threads;
   std::optional<uint64_t> part;
 };
 
 void encodePart(const PartCommandOptions& o) {
+  const auto threadLimit = o.threads.apply();
   const std::vector<CellSpec> cells = cellsOf(o.map, o.schemes, o.parts);
   checkWritableFolder(o.parts.partsRoot);
   const Scene scene = openScene(o.map.scene);
@@ -39,6 +41,7 @@ void addPartCommand(CLI::App& app) {
       "part file per scheme; parts already there are kept");
   o->map.addTo(sub);
   o->schemes.addTo(sub, "mh");
+  o->threads.addTo(sub);
   o->parts.addTo(sub, true);
   sub->add_option("--part", o->part, "only this part (0 to (R / part size)² − 1); default all");
   sub->callback([o] { encodePart(*o); });

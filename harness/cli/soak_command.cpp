@@ -25,7 +25,8 @@ namespace {
 struct SoakCommandOptions {
   std::string structure, scene = "city", scheme, mode = "closed", resolution = "1K";
   std::vector<std::string> params;
-  uint32_t light = 0, tile = 0, threads = 0;
+  uint32_t light = 0, tile = 0;
+  ThreadOptions threads;
   uint64_t seed = 1;
   double queries = 1e9;
   std::string state, json;
@@ -94,8 +95,7 @@ void printReport(const SoakState& state, const std::string& label) {
 void runSoak(const SoakCommandOptions& o) {
   if (!(o.queries >= 1 && o.queries <= 0x1p62))
     throw std::invalid_argument(fmt::format("--queries {} must be from 1 to 2^62", o.queries));
-  std::optional<tbb::global_control> threads;
-  if (o.threads) threads.emplace(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
+  const auto threadLimit = o.threads.apply();
   const Scene scene = openScene(o.scene);
   const Light light = sceneLight(scene, o.light);
   Subject subject = subjectOf(o, scene);
@@ -182,7 +182,7 @@ void addSoakCommand(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--seed", o->seed, "seed of the queries")->capture_default_str();
   sub->add_option("--tile", o->tile, "tile size of the soak (default min(R, 512))");
-  sub->add_option("--threads", o->threads, "threads to use (default: all)");
+  o->threads.addTo(sub);
   sub->add_option("--state", o->state, "state file: resumed when it exists, saved after each tile");
   sub->add_option("--json", o->json, "write the summary as JSON");
   sub->callback([o] { runSoak(*o); });
