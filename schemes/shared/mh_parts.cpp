@@ -100,8 +100,8 @@ class PartValidator {
       depth_[child] = uint8_t(parentDepth + 1);
       const bool hasChildren = part_.nodes[child].childFlags != 0;
       if (hasChildren != (type != MhChild::Leaf))
-        fail(fmt::format("{} is child {} of {} as a {}, but has{} children", name(child), k,
-                         name(parent), type == MhChild::Leaf ? "leaf" : "inner node",
+        fail(fmt::format("{} is child {} of {} as {}, but has{} children", name(child), k,
+                         name(parent), type == MhChild::Leaf ? "a leaf" : "an inner node",
                          hasChildren ? "" : " no"));
       ++child;
     }
@@ -214,8 +214,8 @@ MhBuilder::PartHierarchy readMhPart(ByteReader& in, const MapPart& part,
     throw FormatError(
         fmt::format("{}: {} nodes, more than a {}² part holds", prefix, count, part.size));
   if (count > in.remaining() / kMhPartNodeBytes)
-    throw FormatError(
-        fmt::format("{}: {} nodes, but only {} bytes follow", prefix, count, in.remaining()));
+    throw FormatError(fmt::format("{}: {} nodes take {} bytes, {} follow", prefix, count,
+                                  count * kMhPartNodeBytes, in.remaining()));
   hierarchy.nodes.resize(count);
   for (MhNode& node : hierarchy.nodes) {
     const NodeRecord record = getRecord(in, "MH part node");
