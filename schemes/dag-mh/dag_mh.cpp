@@ -104,21 +104,20 @@ SchemeInfo dagMh() {
                          "0 = the root alone; capped at log2 R",
                          6, 0, 10, {0, 6}),
   };
-  // The hierarchy (16 bytes a node) is built whole, then per node a height, a value count and a
-  // DAG reference (9 bytes), and the value intervals (8 bytes each). Hierarchies keep a fraction
-  // of the texels as nodes (a tenth on the full city), and the format caps values at 2^24.
-  setMhBuilds(
-      info,
-      [](const MapInfo& map, const ParamValues& params) -> HierarchyEncode {
-        return [resolution = map.resolution, config = dagMhConfig(map, params)](
-                   MultiresHierarchy hierarchy, BuildContext& context) {
-          return encodeDagMh(std::move(hierarchy), resolution, config, context);
-        };
-      },
-      [](const MapInfo& map, const ParamValues&) {
-        const uint64_t nodes = std::min<uint64_t>(map.texelCount() / 2, uint64_t(1) << 26);
-        return nodes * 32;
-      });
+  // The hierarchy (16 bytes a node) is built whole, then per node a height, a descendant count
+  // and a DAG reference (13 bytes), and the value intervals (8 bytes each). Hierarchies keep a
+  // fraction of the texels as nodes (a tenth on the full city), and the format caps values at
+  // 2^24.
+  setMhBuilds(info, {[](const MapInfo& map, const ParamValues& params) -> HierarchyEncode {
+                       return [resolution = map.resolution, config = dagMhConfig(map, params)](
+                                  MultiresHierarchy hierarchy, BuildContext& context) {
+                         return encodeDagMh(std::move(hierarchy), resolution, config, context);
+                       };
+                     },
+                     [](const MapInfo& map) {
+                       return std::min<uint64_t>(map.texelCount() / 2, uint64_t(1) << 26) * 32;
+                     },
+                     21});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues& params) -> std::unique_ptr<Decoder> {
     if (!validResolution(map.resolution))

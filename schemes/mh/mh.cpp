@@ -37,9 +37,10 @@ SchemeInfo mh() {
   info.name = "mh";
   info.paper = "Scandolo, Bauszat & Eisemann 2016, compressed multiresolution hierarchies";
   info.kind = SchemeKind::Depth;
-  setMhBuilds(
-      info, [](const MapInfo&, const ParamValues&) -> HierarchyEncode { return encodeMh; },
-      [](const MapInfo& map, const ParamValues&) { return MhBuilder::hierarchyFloorBytes(map); });
+  // The encode step keeps per node its value (4 bytes), its position, level and kind in the
+  // layout (10) and at least a word of the structure (4).
+  setMhBuilds(info, {[](const MapInfo&, const ParamValues&) -> HierarchyEncode { return encodeMh; },
+                     MhBuilder::hierarchyFloorBytes, 18});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<MhDecoder>(OffsetQuadtree::load(in, map, "mh"));

@@ -225,21 +225,23 @@ MhBuilder::PartHierarchy readMhPart(ByteReader& in, const MapPart& part,
   return hierarchy;
 }
 
-void setMhBuilds(SchemeInfo& info, HierarchyEncodeFor encodeFor, EncodeBytes encodeBytes) {
-  info.buildBytes = [encodeBytes](const MapInfo& map, const ParamValues& params,
-                                  const BuildShape& shape) {
+void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
+  info.buildBytes = [wholeBuildBytes = encoding.wholeBuildBytes,
+                     perNode = encoding.encodeBytesPerNode](const MapInfo& map, const ParamValues&,
+                                                            const BuildShape& shape) {
     if (!shape.inParts(map))
       return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) +
-             encodeBytes(map, params);
-    // One part's hierarchy at its floor, as nodes and as payload bytes: what a part encoder
-    // holds at its end, and what the merger holds beside the hierarchy it grows.
-    const uint64_t partNodes =
-        MhBuilder::hierarchyFloorBytes({shape.partSize, 0, map.mode}) / sizeof(MhNode);
-    const uint64_t partBytes = partNodes * (sizeof(MhNode) + kMhPartNodeBytes);
-    return std::max(MhBuilder::workingBytes(std::min(shape.partSize, shape.tileSize)),
-                    encodeBytes(map, params)) +
-           partBytes;
+             wholeBuildBytes(map);
+    const auto nodesAtFloor = [](uint32_t side) {
+      return MhBuilder::hierarchyFloorBytes({side, 0, DepthMode::Open}) / sizeof(MhNode);
+    };
+    const uint64_t partBytes = nodesAtFloor(shape.partSize) * (sizeof(MhNode) + kMhPartNodeBytes);
+    const uint64_t encoder =
+        MhBuilder::workingBytes(std::min(shape.partSize, shape.tileSize)) + partBytes;
+    const uint64_t merge = nodesAtFloor(map.resolution) * (sizeof(MhNode) + perNode) + partBytes;
+    return std::max(encoder, merge);
   };
+  const auto encodeFor = encoding.encodeFor;
   info.makeEncoder = [encodeFor](const MapInfo& map, const ParamValues& params,
                                  const BuildShape&) -> std::unique_ptr<Encoder> {
     return std::make_unique<HierarchyEncoder>(map, encodeFor(map, params));

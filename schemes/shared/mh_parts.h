@@ -30,13 +30,21 @@ void writeMhPart(ByteWriter& out, const MapPart& part, const MhBuilder::PartHier
 // with lo ≤ hi. Throws FormatError naming `scheme`, the part and what is wrong.
 MhBuilder::PartHierarchy readMhPart(ByteReader& in, const MapPart& part, const std::string& scheme);
 
-// A scheme's encode step for its map and parameters.
-using HierarchyEncodeFor = std::function<HierarchyEncode(const MapInfo&, const ParamValues&)>;
-// Bytes an encode step needs at least, the whole hierarchy included, for SchemeInfo::buildBytes.
-using EncodeBytes = std::function<uint64_t(const MapInfo&, const ParamValues&)>;
+// How an MH-family scheme gets from the hierarchy to its structure, and what that costs.
+struct MhEncoding {
+  // The scheme's encode step for a map and parameters.
+  std::function<HierarchyEncode(const MapInfo&, const ParamValues&)> encodeFor;
+  // A whole build's bytes beyond the tiles' working memory, the hierarchy included.
+  std::function<uint64_t(const MapInfo&)> wholeBuildBytes;
+  // Bytes per hierarchy node that the encode step holds beside the hierarchy at its peak: with
+  // the hierarchy's floor (MhBuilder::hierarchyFloorBytes), what the merge of parts needs.
+  uint64_t encodeBytesPerNode = 0;
+};
 
-// Fills in `info`'s buildBytes (the larger of one part's encoder and the merge for a build in
-// parts), makeEncoder, makePartEncoder and makePartMerger; `info.name` names the scheme in errors.
-void setMhBuilds(SchemeInfo& info, HierarchyEncodeFor encodeFor, EncodeBytes encodeBytes);
+// Fills in `info`'s buildBytes, makeEncoder, makePartEncoder and makePartMerger; `info.name`
+// names the scheme in errors. For a build in parts, buildBytes is the larger of one part's
+// encoder (its tiles' working memory, its hierarchy and payload at their floor) and the merge
+// (the whole hierarchy and the encode step at their floor, one part's payload and nodes).
+void setMhBuilds(SchemeInfo& info, MhEncoding encoding);
 
 }  // namespace sb
