@@ -110,9 +110,12 @@ class MhBuilder {
   // Tiles must be square, a power of two wide, inside the builder's map or part, and arrive in
   // Morton order (the harness's order). Throws std::invalid_argument.
   void consume(const DualDepthTile& tile);
-  // A part's hierarchy, validated (readMhPart), parts in index order like tiles.
+  // A part's hierarchy, validated (readMhPart); parts, like tiles, arrive in Morton order (part
+  // index order). Throws std::invalid_argument.
   void consume(const MapPart& part, const PartHierarchy& hierarchy);
+  // The map's hierarchy once every tile or part arrived (std::logic_error before).
   MultiresHierarchy finish();
+  // A part builder's hierarchy once the part's tiles arrived (std::logic_error before).
   PartHierarchy finishPart();
 
   // The builder's working memory beyond the nodes it keeps, for SchemeInfo::buildBytes.
