@@ -113,6 +113,16 @@ class PartValidator {
   std::vector<uint8_t> depth_;  // levels below the part's root; 0 until a pack claims the node
 };
 
+// The nodes a hierarchy of side `side` keeps at least, for the estimates of builds in parts: a
+// node per 64 texels (MhBuilder::hierarchyFloorBytes) up to 16K², 256 per texel row beyond.
+// Past the scene's detail, nodes follow the depth discontinuities and slopes, curves whose texels
+// grow as R, not R²: the full city closed keeps 6.9 M nodes at 16K² (419 R), and dag-mh's 4.0 GiB
+// peak at 256K² (issue 12) fits that rate, not R²/64 (1.1 G nodes, 17 GiB of hierarchy alone).
+uint64_t nodesAtFloor(uint32_t side) {
+  return std::min(MhBuilder::hierarchyFloorBytes({side, 0, DepthMode::Open}) / sizeof(MhNode),
+                  uint64_t(side) * 256);
+}
+
 class MhPartEncoder final : public PartEncoder {
  public:
   MhPartEncoder(const MapInfo& map, const MapPart& part) : part_(part), builder_(map, part) {}
@@ -232,9 +242,6 @@ void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
     if (!shape.inParts(map))
       return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) +
              wholeBuildBytes(map);
-    const auto nodesAtFloor = [](uint32_t side) {
-      return MhBuilder::hierarchyFloorBytes({side, 0, DepthMode::Open}) / sizeof(MhNode);
-    };
     const uint64_t partBytes = nodesAtFloor(shape.partSize) * (sizeof(MhNode) + kMhPartNodeBytes);
     const uint64_t encoder =
         MhBuilder::workingBytes(std::min(shape.partSize, shape.tileSize)) + partBytes;

@@ -37,14 +37,15 @@ struct MhEncoding {
   // A whole build's bytes beyond the tiles' working memory, the hierarchy included.
   std::function<uint64_t(const MapInfo&)> wholeBuildBytes;
   // Bytes per hierarchy node that the encode step holds beside the hierarchy at its peak: with
-  // the hierarchy's floor (MhBuilder::hierarchyFloorBytes), what the merge of parts needs.
+  // the hierarchy's floor, what the merge of parts needs.
   uint64_t encodeBytesPerNode = 0;
 };
 
 // Fills in `info`'s buildBytes, makeEncoder, makePartEncoder and makePartMerger; `info.name`
 // names the scheme in errors. For a build in parts, buildBytes is the larger of one part's
-// encoder (its tiles' working memory, its hierarchy and payload at their floor) and the merge
-// (the whole hierarchy and the encode step at their floor, one part's payload and nodes).
+// encoder (its tiles' working memory, its hierarchy and payload) and the merge (the whole
+// hierarchy and the encode step, one part's payload and nodes), each hierarchy at its floor: a
+// node per 64 texels up to 16K², 256 per texel row beyond (mh_parts.cpp).
 void setMhBuilds(SchemeInfo& info, MhEncoding encoding);
 
 }  // namespace sb

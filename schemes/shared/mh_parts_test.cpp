@@ -241,4 +241,22 @@ TEST_CASE("part payloads with a flipped bit are refused or merge into a sound st
   }
 }
 
+// buildBytes of a build in parts: beyond 16K² the hierarchy's floor grows as R (mh_parts.cpp),
+// so doubling R doubles the merge's estimate; a larger part costs its encoder more.
+TEST_CASE("estimates of builds in parts grow as R beyond 16K² and follow the part size",
+          "[mh][parts]") {
+  for (const char* name : kMhFamily) {
+    INFO(name);
+    const SchemeInfo& scheme = findScheme(name);
+    const auto bytes = [&](uint32_t resolution, uint32_t partSize) {
+      return double(scheme.buildBytes({resolution, 0, DepthMode::Closed}, scheme.resolve({}),
+                                      {512, partSize}));
+    };
+    const double ratio = bytes(1u << 18, 1u << 12) / bytes(1u << 17, 1u << 12);
+    CHECK(ratio > 1.9);
+    CHECK(ratio < 2.1);
+    CHECK(bytes(1u << 16, 1u << 15) > bytes(1u << 16, 1u << 12));
+  }
+}
+
 }  // namespace sb
