@@ -12,6 +12,7 @@
 #include "schemes/dag-mh/value_chunks.h"
 #include "schemes/interface/depth_decoder.h"
 #include "schemes/interface/serial.h"
+#include "schemes/shared/mh_parts.h"
 
 namespace sb {
 namespace {
@@ -64,34 +65,23 @@ class DagMhDecoder final : public DepthDecoder<DagMhDecoder> {
   ValueChunks values_;
 };
 
-class DagMhEncoder final : public HierarchyEncoder {
- public:
-  DagMhEncoder(const MapInfo& map, DagMhConfig config) : HierarchyEncoder(map), config_(config) {}
-
-  std::unique_ptr<Decoder> finish(BuildContext& context) override {
-    dag_mh::DagBuild built;
-    {
-      const MultiresHierarchy hierarchy = this->hierarchy();
-      context.phase("dag");
-      built = dag_mh::buildDag(hierarchy, config_.treeletHeight, config_.skipLevel);
-    }
-    context.phase("values");
-    dag_mh::ValueChunkStats stats;
-    ValueChunks values(built.values, config_.chunkSize, &stats);
-    context.count("inner nodes", built.dag.innerNodeCount());
-    context.count("treelets", built.dag.treeletCount());
-    context.count("values", built.values.size());
-    context.count("values covered by representative", stats.covered);
-    context.count("factor values", stats.factors);
-    context.count("factor bits", stats.factorBits);
-    context.count("chunks", values.infoSize() / values.infoBytes());
-    return std::make_unique<DagMhDecoder>(map().resolution, std::move(built.dag),
-                                          std::move(values));
-  }
-
- private:
-  DagMhConfig config_;
-};
+std::unique_ptr<Decoder> encodeDagMh(MultiresHierarchy hierarchy, uint32_t resolution,
+                                     DagMhConfig config, BuildContext& context) {
+  context.phase("dag");
+  dag_mh::DagBuild built = dag_mh::buildDag(hierarchy, config.treeletHeight, config.skipLevel);
+  hierarchy = {};  // the values phase needs only the DAG and the value intervals
+  context.phase("values");
+  dag_mh::ValueChunkStats stats;
+  ValueChunks values(built.values, config.chunkSize, &stats);
+  context.count("inner nodes", built.dag.innerNodeCount());
+  context.count("treelets", built.dag.treeletCount());
+  context.count("values", built.values.size());
+  context.count("values covered by representative", stats.covered);
+  context.count("factor values", stats.factors);
+  context.count("factor bits", stats.factorBits);
+  context.count("chunks", values.infoSize() / values.infoBytes());
+  return std::make_unique<DagMhDecoder>(resolution, std::move(built.dag), std::move(values));
+}
 
 SchemeInfo dagMh() {
   SchemeInfo info;
@@ -114,17 +104,20 @@ SchemeInfo dagMh() {
                          "0 = the root alone; capped at log2 R",
                          6, 0, 10, {0, 6}),
   };
-  // The hierarchy (16 bytes a node) is built whole, then per node a height, a value count and a
-  // DAG reference (9 bytes), and the value intervals (8 bytes each). Hierarchies keep a fraction
-  // of the texels as nodes (a tenth on the full city), and the format caps values at 2^24.
-  info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape& shape) {
-    const uint64_t nodes = std::min<uint64_t>(map.texelCount() / 2, uint64_t(1) << 26);
-    return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) + nodes * 32;
-  };
-  info.makeEncoder = [](const MapInfo& map, const ParamValues& params,
-                        const BuildShape&) -> std::unique_ptr<Encoder> {
-    return std::make_unique<DagMhEncoder>(map, dagMhConfig(map, params));
-  };
+  // The hierarchy (16 bytes a node) is built whole, then per node a height, a descendant count
+  // and a DAG reference (13 bytes), and the value intervals (8 bytes each). Hierarchies keep a
+  // fraction of the texels as nodes (a tenth on the full city), and the format caps values at
+  // 2^24.
+  setMhBuilds(info, {[](const MapInfo& map, const ParamValues& params) -> HierarchyEncode {
+                       return [resolution = map.resolution, config = dagMhConfig(map, params)](
+                                  MultiresHierarchy hierarchy, BuildContext& context) {
+                         return encodeDagMh(std::move(hierarchy), resolution, config, context);
+                       };
+                     },
+                     [](const MapInfo& map) {
+                       return std::min<uint64_t>(map.texelCount() / 2, uint64_t(1) << 26) * 32;
+                     },
+                     21});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues& params) -> std::unique_ptr<Decoder> {
     if (!validResolution(map.resolution))

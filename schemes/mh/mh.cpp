@@ -3,7 +3,7 @@
 // 16-bit scaled child offsets. A lookup returns the deepest stored depth on the texel's path.
 #include <fmt/format.h>
 
-#include "schemes/shared/multires_hierarchy.h"
+#include "schemes/shared/mh_parts.h"
 #include "schemes/shared/offset_quadtree.h"
 
 namespace sb {
@@ -14,43 +14,33 @@ constexpr int kOffsetBits = 16;
 
 using MhDecoder = OffsetQuadtreeDecoder<OffsetQuadtree::Values::Absolute>;
 
-class MhEncoder final : public HierarchyEncoder {
- public:
-  using HierarchyEncoder::HierarchyEncoder;
-
-  std::unique_ptr<Decoder> finish(BuildContext& context) override {
-    const MultiresHierarchy hierarchy = this->hierarchy();
-    context.phase("serialise");
-    // SBE16a §5: each interval is replaced by one representative, its middle.
-    std::vector<uint32_t> values(hierarchy.nodes.size());
-    uint64_t kinds[4] = {};
-    for (size_t n = 0; n < values.size(); ++n) {
-      const MhNode& node = hierarchy.nodes[n];
-      values[n] = node.interval.middle();
-      for (int k = 0; k < kMhChildren; ++k) ++kinds[int(node.child(k))];
-    }
-    const bool rootHasChildren = hierarchy.nodes.back().hasChildren();
-    context.count("full nodes", kinds[int(MhChild::Full)] + rootHasChildren);
-    context.count("empty nodes", kinds[int(MhChild::Empty)]);
-    context.count("leaves", kinds[int(MhChild::Leaf)] + !rootHasChildren);
-    return std::make_unique<MhDecoder>(
-        layoutOffsetQuadtree(hierarchy, values, {}, kOffsetBits, "mh"));
+std::unique_ptr<Decoder> encodeMh(MultiresHierarchy hierarchy, BuildContext& context) {
+  context.phase("serialise");
+  // SBE16a §5: each interval is replaced by one representative, its middle.
+  std::vector<uint32_t> values(hierarchy.nodes.size());
+  uint64_t kinds[4] = {};
+  for (size_t n = 0; n < values.size(); ++n) {
+    const MhNode& node = hierarchy.nodes[n];
+    values[n] = node.interval.middle();
+    for (int k = 0; k < kMhChildren; ++k) ++kinds[int(node.child(k))];
   }
-};
+  const bool rootHasChildren = hierarchy.nodes.back().hasChildren();
+  context.count("full nodes", kinds[int(MhChild::Full)] + rootHasChildren);
+  context.count("empty nodes", kinds[int(MhChild::Empty)]);
+  context.count("leaves", kinds[int(MhChild::Leaf)] + !rootHasChildren);
+  return std::make_unique<MhDecoder>(
+      layoutOffsetQuadtree(hierarchy, values, {}, kOffsetBits, "mh"));
+}
 
 SchemeInfo mh() {
   SchemeInfo info;
   info.name = "mh";
   info.paper = "Scandolo, Bauszat & Eisemann 2016, compressed multiresolution hierarchies";
   info.kind = SchemeKind::Depth;
-  info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape& shape) {
-    return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) +
-           MhBuilder::hierarchyFloorBytes(map);
-  };
-  info.makeEncoder = [](const MapInfo& map, const ParamValues&,
-                        const BuildShape&) -> std::unique_ptr<Encoder> {
-    return std::make_unique<MhEncoder>(map);
-  };
+  // The encode step keeps per node its value (4 bytes), its position, level and kind in the
+  // layout (10) and at least a word of the structure (4).
+  setMhBuilds(info, {[](const MapInfo&, const ParamValues&) -> HierarchyEncode { return encodeMh; },
+                     MhBuilder::hierarchyFloorBytes, 18});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<MhDecoder>(OffsetQuadtree::load(in, map, "mh"));

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "schemes/mmh/subtree_matching.h"
+#include "schemes/shared/mh_parts.h"
 #include "schemes/shared/offset_quadtree.h"
 
 namespace sb {
@@ -17,32 +18,23 @@ constexpr int kMergeLevels = 12;
 
 using MmhDecoder = OffsetQuadtreeDecoder<OffsetQuadtree::Values::Relative>;
 
-class MmhEncoder final : public HierarchyEncoder {
- public:
-  MmhEncoder(const MapInfo& map, uint32_t searchDistance)
-      : HierarchyEncoder(map), searchDistance_(searchDistance) {}
-
-  std::unique_ptr<Decoder> finish(BuildContext& context) override {
-    const MultiresHierarchy hierarchy = this->hierarchy();
-    context.phase("hash");
-    SubtreeMatcher matcher(hierarchy, {searchDistance_, kMergeLevels, kOffsetBits});
-    context.phase("match");
-    const MergedHierarchy merged = matcher.match();
-    context.phase("serialise");
-    const MatchingStatistics& s = merged.statistics;
-    context.count("pairs tested", s.pairsTested);
-    context.count("rejected interval", s.rejectedInterval);
-    context.count("rejected offset", s.rejectedOffset);
-    context.count("rejected full test", s.rejectedFullTest);
-    context.count("merges", s.merges);
-    context.count("nodes removed", s.nodesRemoved);
-    return std::make_unique<MmhDecoder>(
-        layoutOffsetQuadtree(hierarchy, merged.values, merged.sharedChildren, kOffsetBits, "mmh"));
-  }
-
- private:
-  uint32_t searchDistance_;
-};
+std::unique_ptr<Decoder> encodeMmh(MultiresHierarchy hierarchy, uint32_t searchDistance,
+                                   BuildContext& context) {
+  context.phase("hash");
+  SubtreeMatcher matcher(hierarchy, {searchDistance, kMergeLevels, kOffsetBits});
+  context.phase("match");
+  const MergedHierarchy merged = matcher.match();
+  context.phase("serialise");
+  const MatchingStatistics& s = merged.statistics;
+  context.count("pairs tested", s.pairsTested);
+  context.count("rejected interval", s.rejectedInterval);
+  context.count("rejected offset", s.rejectedOffset);
+  context.count("rejected full test", s.rejectedFullTest);
+  context.count("merges", s.merges);
+  context.count("nodes removed", s.nodesRemoved);
+  return std::make_unique<MmhDecoder>(
+      layoutOffsetQuadtree(hierarchy, merged.values, merged.sharedChildren, kOffsetBits, "mmh"));
+}
 
 SchemeInfo mmh() {
   SchemeInfo info;
@@ -52,14 +44,17 @@ SchemeInfo mmh() {
   info.params = {ParamSpec::integer(
       "search-distance", "entries of a collision list each subtree is tested against (SBE16b §3.2)",
       1000, 0, 100000000, {0, 10, 100, 250, 500, 1000, 2000, 5000, 10000})};
-  info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape& shape) {
-    return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) +
-           MhBuilder::hierarchyFloorBytes(map);
-  };
-  info.makeEncoder = [](const MapInfo& map, const ParamValues& params,
-                        const BuildShape&) -> std::unique_ptr<Encoder> {
-    return std::make_unique<MmhEncoder>(map, uint32_t(params.integer("search-distance")));
-  };
+  // The encode step keeps per node the matcher's parent, level, relative bounds and value,
+  // topology hash, height and depth-first entry (43 bytes), the unmerged position (8), pack
+  // state (1), shared child and value (8), the layout's position, level and kind (10) and at
+  // least a word of the structure (4).
+  setMhBuilds(info, {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
+                       return [searchDistance = uint32_t(params.integer("search-distance"))](
+                                  MultiresHierarchy hierarchy, BuildContext& context) {
+                         return encodeMmh(std::move(hierarchy), searchDistance, context);
+                       };
+                     },
+                     MhBuilder::hierarchyFloorBytes, 74});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<MmhDecoder>(OffsetQuadtree::load(in, map, "mmh"));

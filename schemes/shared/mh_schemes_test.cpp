@@ -98,6 +98,90 @@ TEST_CASE("tiles out of Morton order or not square are refused", "[mh]") {
   CHECK_THROWS_AS(builder.finish(), std::logic_error);
 }
 
+// Builds in parts (parts.h): each part reduced to its undecided root, then the parts joined in
+// index order, as the part encoders and the merger of schemes/shared/mh_parts do.
+MultiresHierarchy hierarchyInParts(const SyntheticMap& map, uint32_t tileSize, uint32_t partSize) {
+  const MapInfo info = map.info(SchemeKind::Depth);
+  const uint64_t tilesPerPart = uint64_t(partSize / tileSize) * (partSize / tileSize);
+  MhBuilder merged(info);
+  for (uint64_t index = 0; index < MapPart::countFor(info, partSize); ++index) {
+    const MapPart part = MapPart::of(index, partSize);
+    MhBuilder builder(info, part);
+    map.stream(
+        tileSize, [&](const DualDepthTile& tile) { builder.consume(tile); }, index * tilesPerPart,
+        (index + 1) * tilesPerPart);
+    merged.consume(part, builder.finishPart());
+  }
+  return merged.finish();
+}
+
+// Node for node: the same intervals, flags and child indices in the same order.
+size_t differingNodes(const MultiresHierarchy& a, const MultiresHierarchy& b) {
+  size_t differing =
+      std::max(a.nodes.size(), b.nodes.size()) - std::min(a.nodes.size(), b.nodes.size());
+  for (size_t n = 0; n < std::min(a.nodes.size(), b.nodes.size()); ++n) {
+    const MhNode &x = a.nodes[n], &y = b.nodes[n];
+    differing += x.interval.lo != y.interval.lo || x.interval.hi != y.interval.hi ||
+                 x.firstChild != y.firstChild || x.childFlags != y.childFlags;
+  }
+  return differing;
+}
+
+TEST_CASE("a hierarchy joined from parts is the whole build's, node for node", "[mh][parts]") {
+  for (DepthMode mode : {DepthMode::Open, DepthMode::Closed, DepthMode::Static})
+    for (uint64_t seed : {11, 12}) {
+      const SyntheticMap map = SyntheticMap::random(128, mode, seed);
+      for (uint32_t tile : {8u, 16u}) {
+        // Node order follows the tiles (each tile's levels are stored row by row).
+        const MultiresHierarchy whole = hierarchyOf(map, tile);
+        REQUIRE(whole.nodes.size() > 100);
+        for (uint32_t part : {tile, 2 * tile, 64u}) {
+          INFO(toString(mode) << " seed " << seed << ", tiles " << tile << "², parts " << part
+                              << "²");
+          const MultiresHierarchy joined = hierarchyInParts(map, tile, part);
+          CHECK(joined.resolution == whole.resolution);
+          CHECK(joined.levels == whole.levels);
+          CHECK(joined.nodes.size() == whole.nodes.size());
+          CHECK(differingNodes(joined, whole) == 0);
+        }
+      }
+    }
+  // One interval everywhere: every part's root is a childless leaf, and so is the map's root.
+  const SyntheticMap flat = SyntheticMap::uniform(64, 0.5f, 0.75f);
+  const MultiresHierarchy joined = hierarchyInParts(flat, 8, 16);
+  CHECK(joined.nodes.size() == 1);
+  CHECK(differingNodes(joined, hierarchyOf(flat, 8)) == 0);
+}
+
+TEST_CASE("parts out of order, unfinished or finished as the wrong kind are refused",
+          "[mh][parts]") {
+  const SyntheticMap map = SyntheticMap::random(32, DepthMode::Closed, 13);
+  const MapInfo info = map.info(SchemeKind::Depth);
+  const auto partOf = [&](uint64_t index) {
+    MhBuilder builder(info, MapPart::of(index, 16));
+    map.stream(
+        8, [&](const DualDepthTile& tile) { builder.consume(tile); }, index * 4, index * 4 + 4);
+    return builder.finishPart();
+  };
+  MhBuilder merged(info);
+  CHECK_THROWS_WITH(merged.consume(MapPart::of(1, 16), partOf(1)), Catch::Contains("Morton order"));
+  merged.consume(MapPart::of(0, 16), partOf(0));
+  CHECK_THROWS_WITH(merged.finish(), Catch::Contains("did not all arrive"));
+
+  MhBuilder part(info, MapPart::of(2, 16));
+  DualDepthTile tile;
+  tile.resize(0, 0, 8, 8);  // a tile of part 0
+  tile.lo.assign(64, 0.5f), tile.hi = tile.lo;
+  CHECK_THROWS_WITH(part.consume(tile), Catch::Contains("within the 16² at (0, 16)"));
+  tile.x0 = 8, tile.y0 = 16;  // part 2's second tile, before its first
+  CHECK_THROWS_WITH(part.consume(tile), Catch::Contains("Morton order"));
+  tile.x0 = 0;
+  part.consume(tile);
+  CHECK_THROWS_WITH(part.finishPart(), Catch::Contains("did not all arrive"));
+  CHECK_THROWS_AS(part.finish(), std::logic_error);
+  CHECK_THROWS_AS(MhBuilder(info, MapPart{0, 8, 0, 16}), std::invalid_argument);
+}
+
 TEST_CASE("offsets too long for their bits scale up, and lookups follow the padding", "[mh]") {
   const SyntheticMap map = SyntheticMap::random(64, DepthMode::Static, 5);
   const MultiresHierarchy h = hierarchyOf(map, 16);

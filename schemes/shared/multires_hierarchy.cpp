@@ -89,12 +89,33 @@ MhBuilder::Pending chooseGroup(const MhBuilder::Pending (&children)[kMhChildren]
 
 }  // namespace
 
+namespace {
+
+int levelsOf(uint32_t resolution) {
+  if (resolution == 0 || !std::has_single_bit(resolution))
+    throw std::invalid_argument(
+        fmt::format("multiresolution hierarchy: resolution {} is not a power of two", resolution));
+  return std::countr_zero(resolution);
+}
+
+}  // namespace
+
 MhBuilder::MhBuilder(const MapInfo& map) {
-  if (map.resolution == 0 || !std::has_single_bit(map.resolution))
-    throw std::invalid_argument(fmt::format(
-        "multiresolution hierarchy: resolution {} is not a power of two", map.resolution));
   hierarchy_.resolution = map.resolution;
-  hierarchy_.levels = std::countr_zero(map.resolution);
+  hierarchy_.levels = levelsOf(map.resolution);
+  regionSize_ = map.resolution;
+}
+
+MhBuilder::MhBuilder(const MapInfo& map, const MapPart& part) : MhBuilder(map) {
+  if (part.size == 0 || !std::has_single_bit(part.size) || part.size > map.resolution ||
+      part.x0 % part.size || part.y0 % part.size || part.x0 > map.resolution - part.size ||
+      part.y0 > map.resolution - part.size)
+    throw std::invalid_argument(fmt::format(
+        "multiresolution hierarchy: part {} ({}² at ({}, {})) is not an aligned square of the "
+        "{}² map",
+        part.index, part.size, part.x0, part.y0, map.resolution));
+  regionX0_ = part.x0, regionY0_ = part.y0, regionSize_ = part.size;
+  regionLevel_ = hierarchy_.levels - std::countr_zero(part.size);
 }
 
 uint64_t MhBuilder::workingBytes(uint32_t tileSize) {
@@ -103,6 +124,21 @@ uint64_t MhBuilder::workingBytes(uint32_t tileSize) {
 
 uint64_t MhBuilder::hierarchyFloorBytes(const MapInfo& map) {
   return map.texelCount() / 64 * sizeof(MhNode);
+}
+
+void MhBuilder::expectNext(uint32_t x0, uint32_t y0, uint32_t size, const char* what) {
+  if (size == 0 || !std::has_single_bit(size) || size > regionSize_ || x0 < regionX0_ ||
+      y0 < regionY0_ || x0 - regionX0_ > regionSize_ - size || y0 - regionY0_ > regionSize_ - size)
+    throw std::invalid_argument(fmt::format(
+        "multiresolution hierarchy: {} {}² at ({}, {}) is not a power-of-two square within the "
+        "{}² at ({}, {})",
+        what, size, x0, y0, regionSize_, regionX0_, regionY0_));
+  // Roots are combined in fours as they arrive, so the order must be Morton order.
+  const uint32_t x = x0 - regionX0_, y = y0 - regionY0_;
+  if (x % size || y % size || mortonCode(x, y) != nextTexel_)
+    throw std::invalid_argument(fmt::format(
+        "multiresolution hierarchy: {} at ({}, {}) arrived out of Morton order", what, x0, y0));
+  nextTexel_ += uint64_t(size) * size;
 }
 
 MhBuilder::Pending MhBuilder::store(Pending parent, const Pending (&children)[kMhChildren]) {
@@ -116,20 +152,26 @@ MhBuilder::Pending MhBuilder::store(Pending parent, const Pending (&children)[kM
   return parent;
 }
 
+void MhBuilder::join(int level, Pending root) {
+  while (level > regionLevel_ && waiting_.size() >= 3 && waiting_.back().first == level &&
+         waiting_[waiting_.size() - 3].first == level) {
+    const Pending group[kMhChildren] = {waiting_[waiting_.size() - 3].second,
+                                        waiting_[waiting_.size() - 2].second,
+                                        waiting_.back().second, root};
+    waiting_.resize(waiting_.size() - 3);
+    root = store(chooseGroup(group), group);
+    --level;
+  }
+  waiting_.emplace_back(level, root);
+}
+
 void MhBuilder::consume(const DualDepthTile& tile) {
   const uint32_t size = tile.width;
-  if (size == 0 || tile.height != size || !std::has_single_bit(size) ||
-      size > hierarchy_.resolution)
-    throw std::invalid_argument(fmt::format(
-        "multiresolution hierarchy: tile {}×{} is not a power-of-two square within the map",
-        tile.width, tile.height));
-  // Tile roots are combined in fours as they arrive, so the order must be Morton order.
-  const uint64_t expected = consumedTiles_++;
-  if (tile.x0 != mortonX(expected) * size || tile.y0 != mortonY(expected) * size)
+  if (tile.height != size)
     throw std::invalid_argument(
-        fmt::format("multiresolution hierarchy: tile at ({}, {}) arrived out of Morton order",
-                    tile.x0, tile.y0));
-
+        fmt::format("multiresolution hierarchy: tile {}×{} at ({}, {}) is not square", tile.width,
+                    tile.height, tile.x0, tile.y0));
+  expectNext(tile.x0, tile.y0, size, "tile");
   level_.resize(size_t(size) * size);
   tbb::parallel_for(uint32_t(0), size, [&](uint32_t row) {
     for (uint32_t column = 0; column < size; ++column) {
@@ -170,22 +212,27 @@ void MhBuilder::consume(const DualDepthTile& tile) {
     std::swap(level_, next_);
   }
 
-  int level = hierarchy_.levels - std::countr_zero(size);
-  Pending root = level_[0];
-  // Morton order completes every group of four tile roots (and of their parents) in turn.
-  while (level > 0 && waiting_.size() >= 3 && waiting_.back().first == level &&
-         waiting_[waiting_.size() - 3].first == level) {
-    const Pending group[kMhChildren] = {waiting_[waiting_.size() - 3].second,
-                                        waiting_[waiting_.size() - 2].second,
-                                        waiting_.back().second, root};
-    waiting_.resize(waiting_.size() - 3);
-    root = store(chooseGroup(group), group);
-    --level;
-  }
-  waiting_.emplace_back(level, root);
+  join(hierarchy_.levels - std::countr_zero(size), level_[0]);
+}
+
+void MhBuilder::consume(const MapPart& part, const PartHierarchy& hierarchy) {
+  expectNext(part.x0, part.y0, part.size, "part");
+  // Child indices are 32-bit, as in a whole build.
+  const uint64_t offset = hierarchy_.nodes.size();
+  if (offset + hierarchy.nodes.size() + 1 > uint64_t(UINT32_MAX))
+    throw std::length_error(fmt::format(
+        "multiresolution hierarchy: part {} takes the nodes beyond 32-bit indices", part.index));
+  const auto shifted = [&](auto node) {
+    if (node.childFlags) node.firstChild += uint32_t(offset);
+    return node;
+  };
+  for (const MhNode& node : hierarchy.nodes) hierarchy_.nodes.push_back(shifted(node));
+  join(hierarchy_.levels - std::countr_zero(part.size), shifted(hierarchy.root));
 }
 
 MultiresHierarchy MhBuilder::finish() {
+  if (regionLevel_ != 0)
+    throw std::logic_error("multiresolution hierarchy: a part's builder finishes with finishPart");
   if (waiting_.size() != 1 || waiting_[0].first != 0)
     throw std::logic_error("multiresolution hierarchy: the map's tiles did not all arrive");
   const Pending& root = waiting_[0].second;
@@ -193,6 +240,15 @@ MultiresHierarchy MhBuilder::finish() {
   waiting_.clear();
   level_ = {}, next_ = {};
   return std::move(hierarchy_);
+}
+
+MhBuilder::PartHierarchy MhBuilder::finishPart() {
+  if (waiting_.size() != 1 || waiting_[0].first != regionLevel_)
+    throw std::logic_error("multiresolution hierarchy: the part's tiles did not all arrive");
+  PartHierarchy part{std::move(hierarchy_.nodes), waiting_[0].second};
+  hierarchy_.nodes = {}, waiting_.clear();
+  level_ = {}, next_ = {};
+  return part;
 }
 
 }  // namespace sb

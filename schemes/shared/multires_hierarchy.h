@@ -10,9 +10,12 @@
 
 #include <bit>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
+#include "schemes/interface/parts.h"
 #include "schemes/interface/scheme.h"
 #include "schemes/shared/child_flags.h"
 
@@ -78,12 +81,43 @@ struct MultiresHierarchy {
 // reduced to one node, and the tile roots, arriving in Morton order, are reduced the same way to
 // the root. At every 2×2 group the largest subset of children whose intervals intersect moves
 // up as the parent's interval (their intersection); the others are stored.
+//
+// The reduction is local, each parent decided by its four children alone, so a build in parts
+// (parts.h) reproduces the whole build exactly: a part's builder reduces the part's tiles to
+// the part's root and stops there, undecided (finishPart); the whole map's builder takes the
+// parts' hierarchies in part order, appends their nodes and reduces their roots as it reduces
+// tile roots, so that it ends with the very nodes, in the very order, of a whole build.
 class MhBuilder {
  public:
+  // A node of the bottom-up reduction before its parent decides whether to store it.
+  struct Pending {
+    KeyInterval interval;
+    uint32_t firstChild = 0;
+    uint8_t childFlags = 0;
+  };
+  // What a part contributes: the nodes its tiles stored (child indices local to `nodes`, packs
+  // before their parents) and its root, which the parents above the part decide on.
+  struct PartHierarchy {
+    std::vector<MhNode> nodes;
+    Pending root;
+  };
+
+  // The whole map's hierarchy, from its tiles or from its parts' hierarchies.
   explicit MhBuilder(const MapInfo& map);
-  // Tiles must be square, a power of two wide, and arrive in Morton order (the harness's order).
+  // One part's hierarchy, from the part's tiles (finishPart).
+  MhBuilder(const MapInfo& map, const MapPart& part);
+
+  // Tiles must be square, a power of two wide, inside the builder's map or part, and arrive in
+  // Morton order (the harness's order). Throws std::invalid_argument.
   void consume(const DualDepthTile& tile);
+  // A part's hierarchy, validated (readMhPart); parts, like tiles, arrive in Morton order (part
+  // index order). Throws std::invalid_argument.
+  void consume(const MapPart& part, const PartHierarchy& hierarchy);
+  // The map's hierarchy once every tile or part arrived (std::logic_error before).
   MultiresHierarchy finish();
+  // A part builder's hierarchy once the part's tiles arrived (std::logic_error before).
+  PartHierarchy finishPart();
+
   // The builder's working memory beyond the nodes it keeps, for SchemeInfo::buildBytes.
   static uint64_t workingBytes(uint32_t tileSize);
   // The hierarchy the builder grows, at its smallest: a node per 64 texels, below what every
@@ -91,42 +125,48 @@ class MhBuilder {
   // closed), so that a build refused for it would not have fit.
   static uint64_t hierarchyFloorBytes(const MapInfo& map);
 
-  // A node of the bottom-up reduction before its parent decides whether to store it.
-  struct Pending {
-    KeyInterval interval;
-    uint32_t firstChild = 0;
-    uint8_t childFlags = 0;
-  };
-
  private:
+  // Checks that the square of side `size` at (x0, y0) is the next of the region's Morton order.
+  void expectNext(uint32_t x0, uint32_t y0, uint32_t size, const char* what);
   // Stores the children the chosen group leaves out as the parent's sibling pack.
   Pending store(Pending parent, const Pending (&children)[kMhChildren]);
+  // Reduces the root of a finished square at `level` with its waiting siblings, as far up as
+  // Morton order has completed groups of four.
+  void join(int level, Pending root);
 
   MultiresHierarchy hierarchy_;
-  uint64_t consumedTiles_ = 0;
+  // The square this builder reduces: the map, or one part of it, at level regionLevel_.
+  uint32_t regionX0_ = 0, regionY0_ = 0, regionSize_ = 0;
+  int regionLevel_ = 0;
+  uint64_t nextTexel_ = 0;  // Morton index, within the region, of the next texel to arrive
   std::vector<Pending> level_, next_;
-  // Tile roots waiting for their three siblings, by level: Morton order completes each group
-  // of four before the next begins.
+  // Roots waiting for their three siblings, by level: Morton order completes each group of four
+  // before the next begins.
   std::vector<std::pair<int, Pending>> waiting_;
 };
 
-// The encoder side the MH-family schemes share: tiles go into an MhBuilder under the phase "mh";
-// a scheme's finish() takes the hierarchy from hierarchy() and encodes it.
-class HierarchyEncoder : public Encoder {
+// A scheme's step from the hierarchy to its structure, named phases and counters included: one
+// function per scheme, which whole builds and merges of parts (mh_parts.h) both call.
+using HierarchyEncode =
+    std::function<std::unique_ptr<Decoder>(MultiresHierarchy hierarchy, BuildContext& context)>;
+
+// The encoder the MH-family schemes share: tiles go into an MhBuilder under the phase "mh", then
+// the scheme's encode step takes the hierarchy.
+class HierarchyEncoder final : public Encoder {
  public:
-  explicit HierarchyEncoder(const MapInfo& map) : map_(map), builder_(map) {}
-  void consume(const DualDepthTile& tile, BuildContext& context) final {
+  HierarchyEncoder(const MapInfo& map, HierarchyEncode encode)
+      : builder_(map), encode_(std::move(encode)) {}
+  void consume(const DualDepthTile& tile, BuildContext& context) override {
     if (!started_) context.phase("mh"), started_ = true;
     builder_.consume(tile);
   }
-
- protected:
-  MultiresHierarchy hierarchy() { return builder_.finish(); }
-  const MapInfo& map() const { return map_; }
+  std::unique_ptr<Decoder> finish(BuildContext& context) override {
+    return encode_(builder_.finish(), context);
+  }
 
  private:
-  MapInfo map_;
   MhBuilder builder_;
+  HierarchyEncode encode_;
   bool started_ = false;
 };
 

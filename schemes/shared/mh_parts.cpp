@@ -1,0 +1,267 @@
+#include "schemes/shared/mh_parts.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace sb {
+namespace {
+
+// depthKey(+inf): the largest key a depth has (DESIGN §2: hi may be +inf, never NaN).
+constexpr uint32_t kInfinityKey = 0x7f800000u;
+
+struct NodeRecord {
+  KeyInterval interval;
+  uint32_t firstChild = 0;
+  uint8_t childFlags = 0;
+};
+
+void putRecord(uint8_t* at, const NodeRecord& node) {
+  std::memcpy(at, &node.interval.lo, 4);
+  std::memcpy(at + 4, &node.interval.hi, 4);
+  std::memcpy(at + 8, &node.firstChild, 4);
+  at[12] = node.childFlags;
+}
+
+NodeRecord getRecord(ByteReader& in, const char* what) {
+  NodeRecord node;
+  node.interval.lo = in.get<uint32_t>(what);
+  node.interval.hi = in.get<uint32_t>(what);
+  node.firstChild = in.get<uint32_t>(what);
+  node.childFlags = in.get<uint8_t>(what);
+  return node;
+}
+
+int childCount(uint8_t flags) {
+  int count = 0;
+  for (int k = 0; k < kMhChildren; ++k) count += childFlag(flags, k) != uint32_t(MhChild::None);
+  return count;
+}
+
+// Nodes a part of side 2^levels can store below its root: every node of the full quadtree.
+uint64_t maxPartNodes(int levels) {
+  uint64_t nodes = 0, level = 1;
+  for (int d = 1; d <= levels && nodes <= UINT32_MAX; ++d) level *= 4, nodes += level;
+  return std::min<uint64_t>(nodes, UINT32_MAX);
+}
+
+// The checks of readMhPart once the nodes are read.
+class PartValidator {
+ public:
+  PartValidator(const MhBuilder::PartHierarchy& part, int levels, std::string prefix)
+      : part_(part), levels_(levels), prefix_(std::move(prefix)), depth_(part.nodes.size(), 0) {}
+
+  void check() {
+    const uint64_t root = part_.nodes.size();
+    checkNode(root, {part_.root.interval, part_.root.firstChild, part_.root.childFlags});
+    if (part_.root.childFlags) claimChildren(root, part_.root.firstChild, part_.root.childFlags, 0);
+    // Parents lie after their packs: walking down from the last node, every node's pack is
+    // claimed before the node is reached, so one pass finds nodes in no pack or in two.
+    for (uint64_t n = root; n-- > 0;) {
+      if (!depth_[n]) fail(fmt::format("{} lies in no sibling pack", name(n)));
+      const MhNode& node = part_.nodes[n];
+      checkNode(n, {node.interval, node.firstChild, node.childFlags});
+      if (node.childFlags) claimChildren(n, node.firstChild, node.childFlags, depth_[n]);
+    }
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw FormatError(fmt::format("{}: {}", prefix_, what));
+  }
+  std::string name(uint64_t n) const {
+    return n == part_.nodes.size() ? "the part's root" : fmt::format("node {}", n);
+  }
+
+  void checkNode(uint64_t n, const NodeRecord& node) const {
+    if (node.interval.lo > node.interval.hi || node.interval.hi > kInfinityKey)
+      fail(fmt::format("{} has the key interval [{:#x}, {:#x}], not depths with lo ≤ hi", name(n),
+                       node.interval.lo, node.interval.hi));
+    if (!node.childFlags && node.firstChild != 0)
+      fail(fmt::format("{} has no children but a first child {}", name(n), node.firstChild));
+  }
+
+  void claimChildren(uint64_t parent, uint32_t first, uint8_t flags, int parentDepth) {
+    if (parentDepth >= levels_)
+      fail(fmt::format("{} has children below the texel level", name(parent)));
+    const uint64_t end = uint64_t(first) + childCount(flags);
+    if (end > parent)
+      fail(fmt::format("{}'s children [{}, {}) do not lie before it", name(parent), first, end));
+    uint64_t child = first;
+    for (int k = 0; k < kMhChildren; ++k) {
+      const MhChild type = MhChild(childFlag(flags, k));
+      if (type == MhChild::None) continue;
+      if (depth_[child])
+        fail(fmt::format("{} lies in two sibling packs ({}'s and another)", name(child),
+                         name(parent)));
+      depth_[child] = uint8_t(parentDepth + 1);
+      const bool hasChildren = part_.nodes[child].childFlags != 0;
+      if (hasChildren != (type != MhChild::Leaf))
+        fail(fmt::format("{} is child {} of {} as {}, but has{} children", name(child), k,
+                         name(parent), type == MhChild::Leaf ? "a leaf" : "an inner node",
+                         hasChildren ? "" : " no"));
+      ++child;
+    }
+  }
+
+  const MhBuilder::PartHierarchy& part_;
+  int levels_;
+  std::string prefix_;
+  std::vector<uint8_t> depth_;  // levels below the part's root; 0 until a pack claims the node
+};
+
+// The nodes a hierarchy of side `side` keeps at least, for the estimates of builds in parts: a
+// node per 64 texels (MhBuilder::hierarchyFloorBytes) up to 16K², 256 per texel row beyond.
+// Past the scene's detail, nodes follow the depth discontinuities and slopes, curves whose texels
+// grow as R, not R²: the full city closed keeps 6.9 M nodes at 16K² (419 R), and dag-mh's 4.0 GiB
+// peak at 256K² (issue 12) fits that rate, not R²/64 (1.1 G nodes, 17 GiB of hierarchy alone).
+uint64_t nodesAtFloor(uint32_t side) {
+  return std::min(MhBuilder::hierarchyFloorBytes({side, 0, DepthMode::Open}) / sizeof(MhNode),
+                  uint64_t(side) * 256);
+}
+
+class MhPartEncoder final : public PartEncoder {
+ public:
+  MhPartEncoder(const MapInfo& map, const MapPart& part) : part_(part), builder_(map, part) {}
+  void consume(const DualDepthTile& tile, BuildContext& context) override {
+    if (!started_) context.phase("mh"), started_ = true;
+    builder_.consume(tile);
+  }
+  void finish(ByteWriter& out, BuildContext&) override {
+    writeMhPart(out, part_, builder_.finishPart());
+  }
+
+ private:
+  MapPart part_;
+  MhBuilder builder_;
+  bool started_ = false;
+};
+
+class MhPartMerger final : public PartMerger {
+ public:
+  MhPartMerger(const MapInfo& map, std::string scheme, uint32_t partSize, HierarchyEncode encode)
+      : map_(map),
+        scheme_(std::move(scheme)),
+        partSize_(partSize),
+        builder_(map),
+        encode_(std::move(encode)) {
+    if (!std::has_single_bit(partSize) || partSize >= map.resolution)
+      throw std::invalid_argument(fmt::format("{}: part size {} is not a power of two below {}",
+                                              scheme_, partSize, map.resolution));
+  }
+
+  void add(const MapPart& part, ByteReader& payload, BuildContext& context) override {
+    const MapPart expected = MapPart::of(nextPart_, partSize_);
+    if (part.index != expected.index || part.size != expected.size || part.x0 != expected.x0 ||
+        part.y0 != expected.y0)
+      throw std::invalid_argument(
+          fmt::format("{}: part {} ({}² at ({}, {})) given where part {} ({}² at ({}, {})) is next",
+                      scheme_, part.index, part.size, part.x0, part.y0, expected.index,
+                      expected.size, expected.x0, expected.y0));
+    if (nextPart_ == 0) context.phase("merge");
+    builder_.consume(part, readMhPart(payload, part, scheme_));
+    ++nextPart_;
+  }
+
+  std::unique_ptr<Decoder> finish(BuildContext& context) override {
+    const uint64_t parts = MapPart::countFor(map_, partSize_);
+    if (nextPart_ != parts)
+      throw std::logic_error(
+          fmt::format("{}: {} of the {} parts were merged", scheme_, nextPart_, parts));
+    return encode_(builder_.finish(), context);
+  }
+
+ private:
+  MapInfo map_;
+  std::string scheme_;
+  uint32_t partSize_;
+  MhBuilder builder_;
+  HierarchyEncode encode_;
+  uint64_t nextPart_ = 0;
+};
+
+}  // namespace
+
+void writeMhPart(ByteWriter& out, const MapPart& part, const MhBuilder::PartHierarchy& hierarchy) {
+  out.put<uint64_t>(part.index);
+  out.put<uint32_t>(part.size);
+  const MhBuilder::Pending& root = hierarchy.root;
+  out.put<uint32_t>(root.interval.lo);
+  out.put<uint32_t>(root.interval.hi);
+  out.put<uint32_t>(root.firstChild);
+  out.put<uint8_t>(root.childFlags);
+  out.put<uint64_t>(hierarchy.nodes.size());
+  // In blocks: a payload holds a tenth of the part's texels or so, too many for a put each.
+  constexpr size_t kBlock = 4096;
+  uint8_t block[kBlock * kMhPartNodeBytes];
+  for (size_t first = 0; first < hierarchy.nodes.size(); first += kBlock) {
+    const size_t count = std::min(kBlock, hierarchy.nodes.size() - first);
+    for (size_t n = 0; n < count; ++n) {
+      const MhNode& node = hierarchy.nodes[first + n];
+      putRecord(block + n * kMhPartNodeBytes, {node.interval, node.firstChild, node.childFlags});
+    }
+    out.append(block, count * kMhPartNodeBytes);
+  }
+}
+
+MhBuilder::PartHierarchy readMhPart(ByteReader& in, const MapPart& part,
+                                    const std::string& scheme) {
+  const std::string prefix = fmt::format("{} part {}", scheme, part.index);
+  const uint64_t index = in.get<uint64_t>("MH part index");
+  const uint32_t size = in.get<uint32_t>("MH part size");
+  if (index != part.index || size != part.size)
+    throw FormatError(fmt::format("{}: the payload belongs to part {} of side {}, not of side {}",
+                                  prefix, index, size, part.size));
+  MhBuilder::PartHierarchy hierarchy;
+  const NodeRecord root = getRecord(in, "MH part root");
+  hierarchy.root = {root.interval, root.firstChild, root.childFlags};
+  const uint64_t count = in.get<uint64_t>("MH part node count");
+  const int levels = std::countr_zero(part.size);
+  if (count > maxPartNodes(levels))
+    throw FormatError(
+        fmt::format("{}: {} nodes, more than a {}² part holds", prefix, count, part.size));
+  if (count > in.remaining() / kMhPartNodeBytes)
+    throw FormatError(fmt::format("{}: {} nodes take {} bytes, {} follow", prefix, count,
+                                  count * kMhPartNodeBytes, in.remaining()));
+  hierarchy.nodes.resize(count);
+  for (MhNode& node : hierarchy.nodes) {
+    const NodeRecord record = getRecord(in, "MH part node");
+    node = {record.interval, record.firstChild, record.childFlags};
+  }
+  PartValidator(hierarchy, levels, prefix).check();
+  return hierarchy;
+}
+
+void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
+  info.buildBytes = [wholeBuildBytes = encoding.wholeBuildBytes,
+                     perNode = encoding.encodeBytesPerNode](const MapInfo& map, const ParamValues&,
+                                                            const BuildShape& shape) {
+    if (!shape.inParts(map))
+      return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) +
+             wholeBuildBytes(map);
+    const uint64_t partBytes = nodesAtFloor(shape.partSize) * (sizeof(MhNode) + kMhPartNodeBytes);
+    const uint64_t encoder =
+        MhBuilder::workingBytes(std::min(shape.partSize, shape.tileSize)) + partBytes;
+    const uint64_t merge = nodesAtFloor(map.resolution) * (sizeof(MhNode) + perNode) + partBytes;
+    return std::max(encoder, merge);
+  };
+  const auto encodeFor = encoding.encodeFor;
+  info.makeEncoder = [encodeFor](const MapInfo& map, const ParamValues& params,
+                                 const BuildShape&) -> std::unique_ptr<Encoder> {
+    return std::make_unique<HierarchyEncoder>(map, encodeFor(map, params));
+  };
+  info.makePartEncoder = [](const MapInfo& map, const MapPart& part, const ParamValues&,
+                            const BuildShape&) -> std::unique_ptr<PartEncoder> {
+    return std::make_unique<MhPartEncoder>(map, part);
+  };
+  info.makePartMerger = [encodeFor, scheme = info.name](
+                            const MapInfo& map, const ParamValues& params,
+                            const BuildShape& shape) -> std::unique_ptr<PartMerger> {
+    return std::make_unique<MhPartMerger>(map, scheme, shape.partSize, encodeFor(map, params));
+  };
+}
+
+}  // namespace sb

@@ -1,0 +1,51 @@
+// Builds of the MH-family schemes (`mh`, `mmh`, `dag-mh`), whole and in parts (parts.h), around
+// one encode step per scheme: the step from the multiresolution hierarchy to the scheme's
+// structure. A part encoder reduces its part's tiles to the part's hierarchy (MhBuilder in part
+// mode) and writes it as the part payload; the merger validates each payload, joins it under the
+// upper levels exactly as a whole build joins tile roots (SBE16a §3, tiled construction;
+// Scandolo & Eisemann 2021 merge tiles on the CPU), and after the last part hands the
+// hierarchy, node for node the whole build's, to the scheme's encode step.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "schemes/interface/parts.h"
+#include "schemes/interface/serial.h"
+#include "schemes/shared/multires_hierarchy.h"
+
+namespace sb {
+
+// Part payload (little-endian):
+//   u64  part index, u32 part side            the part it belongs to
+//   u32  root lo, u32 root hi, u32 root first child, u8 root child flags
+//                                             the part's root, which the levels above decide on
+//   u64  node count n, then n × 13 bytes      the stored nodes, packs before their parents:
+//        u32 lo, u32 hi, u32 first child (index among the n, 0 without children), u8 child flags
+inline constexpr size_t kMhPartNodeBytes = 13;
+void writeMhPart(ByteWriter& out, const MapPart& part, const MhBuilder::PartHierarchy& hierarchy);
+// Reads and validates a payload: a tree whose packs partition the nodes, each before its
+// parent, no deeper than the texels, child flags matching the children, intervals of depth keys
+// with lo ≤ hi. Throws FormatError naming `scheme`, the part and what is wrong.
+MhBuilder::PartHierarchy readMhPart(ByteReader& in, const MapPart& part, const std::string& scheme);
+
+// How an MH-family scheme gets from the hierarchy to its structure, and what that costs.
+struct MhEncoding {
+  // The scheme's encode step for a map and parameters.
+  std::function<HierarchyEncode(const MapInfo&, const ParamValues&)> encodeFor;
+  // A whole build's bytes beyond the tiles' working memory, the hierarchy included.
+  std::function<uint64_t(const MapInfo&)> wholeBuildBytes;
+  // Bytes per hierarchy node that the encode step holds beside the hierarchy at its peak: with
+  // the hierarchy's floor, what the merge of parts needs.
+  uint64_t encodeBytesPerNode = 0;
+};
+
+// Fills in `info`'s buildBytes, makeEncoder, makePartEncoder and makePartMerger; `info.name`
+// names the scheme in errors. For a build in parts, buildBytes is the larger of one part's
+// encoder (its tiles' working memory, its hierarchy and payload) and the merge (the whole
+// hierarchy and the encode step, one part's payload and nodes), each hierarchy at its floor: a
+// node per 64 texels up to 16K², 256 per texel row beyond (mh_parts.cpp).
+void setMhBuilds(SchemeInfo& info, MhEncoding encoding);
+
+}  // namespace sb

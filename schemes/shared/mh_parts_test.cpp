@@ -1,0 +1,262 @@
+// The MH family's part payloads (mh_parts.h) as a file format: pinned by golden files, merged
+// from them into the whole build's structure, and every truncated or crafted payload refused
+// with a FormatError naming the part, the merger keeping what it had (run under the sanitizers
+// in CI).
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include <fmt/format.h>
+#include <catch2/catch.hpp>
+
+#include "schemes/interface/parts.h"
+#include "schemes/interface/serial.h"
+#include "schemes/shared/mh_parts.h"
+#include "tests/support/synthetic_map.h"
+
+namespace sb {
+namespace {
+
+using testing::NullBuildContext;
+using testing::SyntheticMap;
+
+constexpr const char* kMhFamily[] = {"mh", "mmh", "dag-mh"};
+
+// The payloads of every part of `map`, in part order.
+std::vector<std::vector<uint8_t>> partPayloads(const SchemeInfo& scheme, const SyntheticMap& map,
+                                               uint32_t tileSize, uint32_t partSize) {
+  NullBuildContext context;
+  const MapInfo info = map.info(scheme.kind);
+  const BuildShape shape{tileSize, partSize};
+  const uint64_t tilesPerPart = uint64_t(partSize / tileSize) * (partSize / tileSize);
+  std::vector<std::vector<uint8_t>> payloads;
+  for (uint64_t index = 0; index < MapPart::countFor(info, partSize); ++index) {
+    auto encoder =
+        scheme.makePartEncoder(info, MapPart::of(index, partSize), scheme.resolve({}), shape);
+    map.stream(
+        tileSize, [&](const DualDepthTile& tile) { encoder->consume(tile, context); },
+        index * tilesPerPart, (index + 1) * tilesPerPart);
+    ByteWriter out;
+    encoder->finish(out, context);
+    payloads.push_back(out.release());
+  }
+  return payloads;
+}
+
+std::unique_ptr<PartMerger> mergerFor(const SchemeInfo& scheme, const SyntheticMap& map,
+                                      uint32_t tileSize, uint32_t partSize) {
+  return scheme.makePartMerger(map.info(scheme.kind), scheme.resolve({}),
+                               BuildShape{tileSize, partSize});
+}
+
+void add(PartMerger& merger, uint64_t index, uint32_t partSize, std::span<const uint8_t> payload) {
+  NullBuildContext context;
+  ByteReader in(payload);
+  merger.add(MapPart::of(index, partSize), in, context);
+  in.expectEnd();
+}
+
+// Point answers at each texel's bounds and just beyond them.
+std::vector<float> answers(const Decoder& decoder, const SyntheticMap& map) {
+  std::vector<Query> queries;
+  const float r = float(map.resolution);
+  for (uint32_t j = 0; j < map.resolution; ++j)
+    for (uint32_t i = 0; i < map.resolution; ++i) {
+      const size_t at = size_t(j) * map.resolution + i;
+      for (float z : {map.lo[at], std::nextafter(map.lo[at], 2.0f), map.hi[at]})
+        if (std::isfinite(z) && z <= 1.0f) queries.push_back({(i + 0.5f) / r, (j + 0.5f) / r, z});
+    }
+  std::vector<float> got(queries.size());
+  decoder.lookup(queries, 1, got);
+  return got;
+}
+
+std::vector<uint8_t> readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+void writeFile(const std::string& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
+// Byte offsets in a payload (mh_parts.h).
+constexpr size_t kSizeAt = 8, kRootFlagsAt = 24, kCountAt = 25, kNodesAt = 33;
+size_t nodeAt(size_t n) {
+  return kNodesAt + n * kMhPartNodeBytes;
+}
+
+template <class T>
+void poke(std::vector<uint8_t>& bytes, size_t at, T value) {
+  std::memcpy(bytes.data() + at, &value, sizeof(T));
+}
+template <class T>
+T peek(const std::vector<uint8_t>& bytes, size_t at) {
+  T value;
+  std::memcpy(&value, bytes.data() + at, sizeof(T));
+  return value;
+}
+
+}  // namespace
+
+// A 32² map in parts of 16² (tiles of 8²): the four payloads one after another in
+// tests/golden/<scheme>.part; regenerate deliberately with SHADOWBENCH_UPDATE_GOLDEN=1 when the
+// payload format changes.
+TEST_CASE("part payloads match their golden files and merge into the whole build",
+          "[mh][parts][format]") {
+  const SyntheticMap map = SyntheticMap::random(32, DepthMode::Closed, 42);
+  for (const char* name : kMhFamily) {
+    const SchemeInfo& scheme = findScheme(name);
+    const std::string path = fmt::format("tests/golden/{}.part", name);
+    INFO("golden file " << path << " (create it with SHADOWBENCH_UPDATE_GOLDEN=1)");
+    std::vector<uint8_t> payloads;
+    for (const auto& payload : partPayloads(scheme, map, 8, 16))
+      payloads.insert(payloads.end(), payload.begin(), payload.end());
+    if (std::getenv("SHADOWBENCH_UPDATE_GOLDEN")) writeFile(path, payloads);
+    const std::vector<uint8_t> golden = readFile(path);
+    REQUIRE(!golden.empty());
+    CHECK(golden == payloads);
+
+    NullBuildContext context;
+    auto merger = mergerFor(scheme, map, 8, 16);
+    ByteReader in(golden);
+    for (uint64_t index = 0; index < 4; ++index) merger->add(MapPart::of(index, 16), in, context);
+    in.expectEnd();
+    CHECK(answers(*merger->finish(context), map) == answers(*map.build(scheme, {}, 8), map));
+  }
+}
+
+TEST_CASE("truncated and crafted part payloads are refused and the merge goes on",
+          "[mh][parts][format]") {
+  const SyntheticMap map = SyntheticMap::random(64, DepthMode::Closed, 7);
+  for (const char* name : kMhFamily) {
+    INFO(name);
+    const SchemeInfo& scheme = findScheme(name);
+    const auto payloads = partPayloads(scheme, map, 16, 32);
+    const std::vector<uint8_t>& valid = payloads[2];
+    const uint64_t count = peek<uint64_t>(valid, kCountAt);
+    REQUIRE(valid.size() == nodeAt(count));
+    REQUIRE(count > 8);
+
+    auto merger = mergerFor(scheme, map, 16, 32);
+    add(*merger, 0, 32, payloads[0]);
+    add(*merger, 1, 32, payloads[1]);
+    for (size_t length = 0; length < valid.size(); ++length) {
+      INFO("truncated to " << length << " bytes");
+      CHECK_THROWS_AS(add(*merger, 2, 32, std::span(valid).first(length)), FormatError);
+    }
+
+    // Crafted payloads, each with something a loader must catch.
+    const auto firstInner = [&] {
+      for (size_t n = 0; n < count; ++n)
+        if (valid[nodeAt(n) + 12]) return n;
+      FAIL("no inner node");
+      return size_t(0);
+    }();
+    const uint32_t innerFirst = peek<uint32_t>(valid, nodeAt(firstInner) + 8);
+    std::vector<std::pair<const char*, std::vector<uint8_t>>> crafted;
+    const auto craft = [&](const char* what, auto&& edit) {
+      std::vector<uint8_t> bytes = valid;
+      edit(bytes);
+      crafted.emplace_back(what, std::move(bytes));
+    };
+    craft("another part side", [](auto& b) { poke<uint32_t>(b, kSizeAt, 16); });
+    craft("a node more than the bytes", [&](auto& b) { poke<uint64_t>(b, kCountAt, count + 1); });
+    craft("2^40 nodes", [](auto& b) { poke<uint64_t>(b, kCountAt, uint64_t(1) << 40); });
+    craft("a childless root over the nodes", [](auto& b) { b[kRootFlagsAt] = 0; });
+    craft("lo above hi",
+          [&](auto& b) { poke(b, nodeAt(0), peek<uint32_t>(b, nodeAt(0) + 4) + 1); });
+    craft("a NaN key", [&](auto& b) { poke<uint32_t>(b, nodeAt(0) + 4, 0x7fc00000u); });
+    craft("children after their parent",
+          [&](auto& b) { poke<uint32_t>(b, nodeAt(firstInner) + 8, uint32_t(firstInner)); });
+    craft("a pack shared by two parents", [&](auto& b) {
+      for (size_t n = count; n-- > firstInner + 1;)
+        if (b[nodeAt(n) + 12]) return poke<uint32_t>(b, nodeAt(n) + 8, innerFirst);
+    });
+    craft("an inner node without children", [&](auto& b) { b[nodeAt(firstInner) + 12] = 0; });
+    craft("a leaf with children", [&](auto& b) {
+      b[nodeAt(firstInner) + 12] = uint8_t(MhChild::Leaf);  // one child, which is inner or not
+      for (size_t c = innerFirst; c < count; ++c)
+        if (b[nodeAt(c) + 12]) return poke<uint32_t>(b, nodeAt(firstInner) + 8, uint32_t(c));
+    });
+    for (const auto& [what, bytes] : crafted) {
+      INFO(what);
+      std::string refusal = "accepted";
+      try {
+        add(*merger, 2, 32, bytes);
+      } catch (const FormatError& error) {
+        refusal = error.what();
+      }
+      CHECK_THAT(refusal, Catch::Contains(fmt::format("{} part 2: ", name)));
+    }
+    CHECK_THROWS_AS(add(*merger, 3, 32, payloads[3]), std::invalid_argument);
+
+    // Nothing refused reached the merger: it ends as the whole build.
+    add(*merger, 2, 32, valid);
+    add(*merger, 3, 32, payloads[3]);
+    NullBuildContext context;
+    CHECK(answers(*merger->finish(context), map) == answers(*map.build(scheme, {}, 16), map));
+  }
+}
+
+// Flipped bits that still form a valid tree merge into a structure that answers other depths:
+// a structure the scheme's own loader accepts, and whose every lookup stays in bounds (the
+// sanitizers watch).
+TEST_CASE("part payloads with a flipped bit are refused or merge into a sound structure",
+          "[mh][parts][format]") {
+  const SyntheticMap map = SyntheticMap::random(32, DepthMode::Static, 8);
+  for (const char* name : kMhFamily) {
+    INFO(name);
+    const SchemeInfo& scheme = findScheme(name);
+    const auto payloads = partPayloads(scheme, map, 8, 16);
+    size_t refused = 0;
+    const size_t stride = payloads[1].size() / 512 + 1;
+    for (size_t at = 0; at < payloads[1].size(); at += stride) {
+      std::vector<uint8_t> corrupted = payloads[1];
+      corrupted[at] ^= uint8_t(1u << (at % 8));
+      auto merger = mergerFor(scheme, map, 8, 16);
+      add(*merger, 0, 16, payloads[0]);
+      try {
+        add(*merger, 1, 16, corrupted);
+      } catch (const FormatError&) {
+        ++refused;
+        continue;
+      }
+      add(*merger, 2, 16, payloads[2]);
+      add(*merger, 3, 16, payloads[3]);
+      // The scheme's loader, which validates everything, takes what the merge built.
+      NullBuildContext context;
+      const auto merged = merger->finish(context);
+      ByteWriter saved;
+      merged->save(saved);
+      ByteReader in(saved.bytes());
+      const auto loaded = scheme.load(in, map.info(scheme.kind), scheme.resolve({}));
+      in.expectEnd();
+      CHECK(answers(*loaded, map) == answers(*merged, map));
+    }
+    CHECK(refused > 0);
+  }
+}
+
+// buildBytes of a build in parts: beyond 16K² the hierarchy's floor grows as R (mh_parts.cpp),
+// so doubling R doubles the merge's estimate; a larger part costs its encoder more.
+TEST_CASE("estimates of builds in parts grow as R beyond 16K² and follow the part size",
+          "[mh][parts]") {
+  for (const char* name : kMhFamily) {
+    INFO(name);
+    const SchemeInfo& scheme = findScheme(name);
+    const auto bytes = [&](uint32_t resolution, uint32_t partSize) {
+      return double(scheme.buildBytes({resolution, 0, DepthMode::Closed}, scheme.resolve({}),
+                                      {512, partSize}));
+    };
+    const double ratio = bytes(1u << 18, 1u << 12) / bytes(1u << 17, 1u << 12);
+    CHECK(ratio > 1.9);
+    CHECK(ratio < 2.1);
+    CHECK(bytes(1u << 16, 1u << 15) > bytes(1u << 16, 1u << 12));
+  }
+}
+
+}  // namespace sb
