@@ -78,8 +78,9 @@ EOF
 }
 
 cells=0
-while read -r cell_set scheme resolution part_size build_args; do
-  eval "build=($build_args)"
+while IFS=$'\t' read -r -a cell; do
+  cell_set=${cell[0]} scheme=${cell[1]} resolution=${cell[2]} part_size=${cell[3]}
+  build=("${cell[@]:4}")
   merged=$results/structures/$cell_set/$scheme.sb
   [ -s "$merged" ] || fail "$cell_set/$scheme: the merge wrote no structure $merged"
   whole=$work/whole/$cell_set-$scheme.sb
@@ -97,8 +98,9 @@ while read -r cell_set scheme resolution part_size build_args; do
               "$work/merged.answers" "$work/whole.answers")
     fail "$cell_set/$scheme: the merged structure answers unlike the whole build, first at query $first '$(sed -n "${first}p" "$work/queries.txt")': merged $(sed -n "${first}p" "$work/merged.answers"), whole $(sed -n "${first}p" "$work/whole.answers")"
   fi
-  grep -qv '^0$' "$work/whole.answers" && grep -qv '^1$' "$work/whole.answers" ||
+  if ! grep -qv '^0$' "$work/whole.answers" || ! grep -qv '^1$' "$work/whole.answers"; then
     fail "$cell_set/$scheme: every answer is the same, so the queries test nothing"
+  fi
 
   # The merge's record: this cell, complete, with its part size.
   /usr/bin/python3 - "$results/records" "$scheme" "$resolution" "$part_size" <<'EOF' || fail "$cell_set/$scheme: no record of the merge names part size $part_size (records: $results/records)"

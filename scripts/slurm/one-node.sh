@@ -74,7 +74,7 @@ fi
 node=$(slurmd -C | head -n 1)
 cpus=$(sed -n 's/.* CPUs=\([0-9]*\).*/\1/p' <<< "$node")
 memory=$(sed -n 's/.* RealMemory=\([0-9]*\).*/\1/p' <<< "$node")
-[ -n "$cpus" ] && [ -n "$memory" ] || fail "slurmd -C said '$node', without CPUs and RealMemory"
+if [ -z "$cpus" ] || [ -z "$memory" ]; then fail "slurmd -C said '$node', without CPUs and RealMemory"; fi
 # Without cgroups (a container has no systemd to delegate them): processes tracked through
 # /proc (proctrack/linuxproc), CPUs bound by affinity, and memory enforced by polling each job's
 # RSS against its --mem (jobacct_gather/linux with OverMemoryKill), so that a job that

@@ -8,13 +8,12 @@ is one `shadowbench merge` job. The Snakefile and tests/workflow_test.sh read th
 through this module, so that both agree on what a cell is.
 
     python3 scripts/workflow/cell_sets.py CONFIG.yaml whole-builds
-prints, per scheme cell, `SET SCHEME RESOLUTION PART_SIZE` (texels) and then the arguments of a
-whole `shadowbench build` of that cell (shell words), for tests that compare merged structures
-with whole builds.
+prints a line per scheme cell: SET, SCHEME, RESOLUTION and PART_SIZE (texels) and then the
+arguments of a whole `shadowbench build` of that cell, separated by tabs, for tests that compare
+merged structures with whole builds.
 """
 
 import re
-import shlex
 import sys
 from pathlib import Path
 
@@ -162,8 +161,11 @@ def main(argv):
         config = yaml.safe_load(Path(argv[1]).read_text())
         for cell_set in cell_sets(config):
             for scheme in cell_set.schemes:
-                print(cell_set.name, scheme, cell_set.resolution, cell_set.part_size,
-                      shlex.join(cell_set.whole_build_args(scheme)))
+                fields = [cell_set.name, scheme, cell_set.resolution, cell_set.part_size,
+                          *cell_set.whole_build_args(scheme)]
+                if any("\t" in str(field) or "\n" in str(field) for field in fields):
+                    raise ConfigError(f"cell set {cell_set.name}: a tab or line break in {fields}")
+                print(*fields, sep="\t")
     except (OSError, yaml.YAMLError, ConfigError) as error:
         print(f"cell_sets.py: {argv[1]}: {error}", file=sys.stderr)
         return 2
