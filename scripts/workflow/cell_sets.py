@@ -145,8 +145,51 @@ class CellSet:
         return args
 
 
+TOP_LEVEL = {"shadowbench", "results", "cell_sets", "merge", "resources", "paper_tables"}
+# What a config may leave out: the CI and example configs show each key.
+MERGE_DEFAULTS = {"verify": True, "bench": True, "sampled_queries": None}
+RESOURCE_DEFAULTS = {"part_threads": 2, "merge_threads": 1, "memory_margin": 1.5,
+                     "base_mem_mb": 1024, "part_runtime_min": 120, "merge_runtime_min": 120}
+
+
+def _section(config, key, defaults):
+    given = config.get(key) or {}
+    if not isinstance(given, dict):
+        raise ConfigError(f"{key}: expected a mapping of {', '.join(defaults)}")
+    for name, value in given.items():
+        if name not in defaults:
+            raise ConfigError(f"{key}: unknown key '{name}' (known: {', '.join(defaults)})")
+        if isinstance(defaults[name], bool):
+            if not isinstance(value, bool):
+                raise ConfigError(f"{key}.{name}: '{value}' is not true or false")
+        elif value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
+                                    or value <= 0):
+            raise ConfigError(f"{key}.{name}: '{value}' is not a positive number")
+    return {**defaults, **given}
+
+
+def merge_settings(config):
+    return _section(config, "merge", MERGE_DEFAULTS)
+
+
+def resource_settings(config):
+    return _section(config, "resources", RESOURCE_DEFAULTS)
+
+
+def paper_tables(config):
+    tables = config.get("paper_tables") or []
+    if not isinstance(tables, list) or not all(isinstance(t, str) and re.fullmatch(r"[a-z0-9-]+", t)
+                                               for t in tables):
+        raise ConfigError(f"paper_tables: '{tables}' is not a list of table names such as "
+                          "scandolo2021-table1 (scripts/reproduce/paper_tables.py)")
+    return tables
+
+
 def cell_sets(config):
     """Every cell set of a loaded config, checked; ConfigError names what is wrong."""
+    unknown = sorted(set(config) - TOP_LEVEL)
+    if unknown:
+        raise ConfigError(f"unknown key '{unknown[0]}' (known: {', '.join(sorted(TOP_LEVEL))})")
     entries = config.get("cell_sets")
     if not isinstance(entries, dict) or not entries:
         raise ConfigError("cell_sets: expected a mapping of set names to cell sets")
