@@ -2,10 +2,12 @@
 // harness timing each phase the scheme names and recording peak memory (DESIGN §5, §6).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -26,19 +28,60 @@ struct BuildOutcome {
   std::map<std::string, uint64_t> counters;
   uint64_t closedFallbacks = 0;
   uint64_t baselineRssBytes = 0, peakRssBytes = 0;
+  uint64_t estimatedBytes = 0;  // the scheme's declared build memory, checked before the build
+  std::vector<std::string> depthSharedWith;  // the other schemes its depth pass fed
 };
 
 // The map a scheme builds at a resolution and mode (Rz = R for voxel schemes).
 MapInfo mapFor(const SchemeInfo& scheme, DepthMode mode, uint32_t resolution);
 
-// Throws std::runtime_error naming the bytes needed and available when the scheme's declared
-// build memory does not fit in what the machine has free now.
-void checkBuildFits(const SchemeInfo& scheme, const MapInfo& map, const ParamValues& params,
-                    const BuildShape& shape);
+// The scheme's declared build memory (SchemeInfo::buildBytes) for this shape. Throws
+// std::runtime_error naming the bytes needed and available when it does not fit in what the
+// machine has free now.
+uint64_t checkBuildFits(const SchemeInfo& scheme, const MapInfo& map, const ParamValues& params,
+                        const BuildShape& shape);
 
-// `params` come resolved from the caller (SchemeInfo::resolve), once per build.
+// A scheme with its parameters, resolved by the caller (SchemeInfo::resolve) once per build.
+struct SchemeBuild {
+  const SchemeInfo* scheme = nullptr;
+  ParamValues params;
+};
+
+// Builds every scheme of `builds` whole from one depth pass: each tile is traced once and handed
+// to every encoder in turn (issue 12). The outcomes share the depth time, the texels and the peak
+// memory; their phases and counters are each scheme's own.
+std::vector<BuildOutcome> buildStructures(
+    const DepthSource& source, std::span<const SchemeBuild> builds, const BuildShape& shape,
+    const std::function<void(uint64_t texelsDone)>& progress = {});
 BuildOutcome buildStructure(const DepthSource& source, const SchemeInfo& scheme,
                             const ParamValues& params, const BuildShape& shape,
                             const std::function<void(uint64_t texelsDone)>& progress = {});
+
+// Times the scheme's calls inside a build, credited to the phase the scheme named last: time
+// before the first name goes to the first phase, or to `unnamed` ("encode"; "merge" for a
+// merger) for a scheme that names none, so that a record lists only phases that ran.
+class TimedBuildContext final : public BuildContext {
+ public:
+  explicit TimedBuildContext(std::string unnamed = "encode") : unnamedPhase_(std::move(unnamed)) {}
+  void phase(std::string_view name) override;
+  void count(std::string_view name, uint64_t value) override;
+
+  void enter();  // the scheme is called now
+  void leave();  // and has returned
+  // After the scheme's last call: a scheme that named no phase spent it in the unnamed phase.
+  void close();
+
+  std::vector<std::pair<std::string, double>> phases;
+  std::map<std::string, uint64_t> counters;
+
+ private:
+  void credit();
+  void add(const std::string& phase, double seconds);
+
+  std::string unnamedPhase_;
+  std::string current_;  // empty until the scheme names a phase
+  double unnamed_ = 0;   // time before the scheme named one
+  std::chrono::steady_clock::time_point since_ = std::chrono::steady_clock::now();
+};
 
 }  // namespace sb

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "harness/cell_key.h"
 #include "harness/lookup_timing.h"
 #include "harness/machine.h"
 #include "harness/progress.h"
@@ -57,28 +58,59 @@ Record cellIdentity(const CellSpec& cell, const Scene& scene) {
   return identityOf(cell, scene, scheme, scheme.resolve(cell.params));
 }
 
-Record runCell(const CellSpec& cell, const Scene& scene, const CellOptions& options) {
-  const SchemeInfo& scheme = findScheme(cell.scheme);
-  // Resolved once, here where the build starts; the scheme receives them typed.
-  const ParamValues params = scheme.resolve(cell.params);
-  Record record = identityOf(cell, scene, scheme, params);
-  const Light light = sceneLight(scene, cell.lightIndex);
-  const BuildShape shape{record.tileSize};
-  // Refuse before the depth source spends time on the scene (buildStructure checks again).
-  checkBuildFits(scheme, mapFor(scheme, cell.mode, cell.resolution), params, shape);
-  const DepthSource source(scene, light, cell.mode, cell.resolution);
+namespace {
 
-  const std::string label = fmt::format("{} {} {} {}", scheme.name, scene.name, toString(cell.mode),
-                                        resolutionLabel(cell.resolution));
-  Progress building("build " + label, uint64_t(cell.resolution) * cell.resolution, "texels");
-  BuildOutcome built =
-      buildStructure(source, scheme, params, shape, [&](uint64_t done) { building.set(done); });
-  building.finish();
+// A cell resolved: its scheme row, typed parameters and identifying record.
+struct ResolvedCell {
+  const SchemeInfo* scheme;
+  ParamValues params;
+  Record record;
+};
 
+std::vector<ResolvedCell> resolveCells(std::span<const CellSpec> cells, const Scene& scene) {
+  std::vector<ResolvedCell> resolved;
+  for (const CellSpec& cell : cells) {
+    const CellSpec& first = cells.front();
+    if (cell.sceneSpec != first.sceneSpec || cell.lightIndex != first.lightIndex ||
+        cell.mode != first.mode || cell.resolution != first.resolution ||
+        cell.tileSize != first.tileSize || cell.partSize != first.partSize)
+      throw std::invalid_argument(
+          "cells built from one depth pass must share scene, light, mode, resolution, tile and "
+          "part size");
+    const SchemeInfo& scheme = findScheme(cell.scheme);
+    // Resolved once, here where the build starts; the scheme receives them typed.
+    ParamValues params = scheme.resolve(cell.params);
+    Record record = identityOf(cell, scene, scheme, params);
+    record.partSize = cell.partSize;
+    resolved.push_back({&scheme, std::move(params), std::move(record)});
+  }
+  return resolved;
+}
+
+BuildShape shapeOf(const CellSpec& cell) {
+  return {cell.tileSize ? cell.tileSize : defaultTileSize(cell.resolution), cell.partSize};
+}
+
+std::string labelOf(const CellSpec& cell, const Scene& scene, std::string_view schemes) {
+  return fmt::format("{} {} {} {}", schemes, scene.name, toString(cell.mode),
+                     resolutionLabel(cell.resolution));
+}
+
+std::string schemeNames(std::span<const ResolvedCell> cells) {
+  std::string names;
+  for (const ResolvedCell& cell : cells) names += (names.empty() ? "" : ",") + cell.scheme->name;
+  return names;
+}
+
+// Everything measured after the build: size, times, memory, the saved structure, verification
+// and lookup timings.
+Record finishRecord(Record record, const SchemeInfo& scheme, const BuildOutcome& built,
+                    const Scene& scene, const DepthSource& source, const CellOptions& options,
+                    const std::string& label) {
   const SizeBreakdown sizes = built.decoder->size();
   for (const auto& [component, bytes] : sizes) record.sizeComponents[component] = bytes;
   record.sizeBytes = totalBytes(sizes);
-  RecordTimes times{built.totalSeconds, built.depthSeconds, {}};
+  RecordTimes times{built.totalSeconds, built.depthSeconds, {}, built.depthSharedWith};
   for (const auto& [phase, seconds] : built.phaseSeconds) times.phases[phase] = seconds;
   record.time = std::move(times);
   record.depthResolution = built.map.depthResolution;
@@ -86,14 +118,14 @@ Record runCell(const CellSpec& cell, const Scene& scene, const CellOptions& opti
       RecordDepth{built.texels, double(built.texels) / std::max(built.depthSeconds, 1e-9) * 1e-6,
                   built.closedFallbacks, std::string(toString(source.method()))};
   record.counters = {built.counters.begin(), built.counters.end()};
-  record.memory = RecordMemory{built.peakRssBytes, built.baselineRssBytes};
+  record.memory = RecordMemory{built.peakRssBytes, built.baselineRssBytes, built.estimatedBytes};
 
   if (options.saveStructureTo)
     saveStructure(*options.saveStructureTo,
                   {scheme.name, built.params.text(), built.map, scene.hash()}, *built.decoder);
 
   if (options.verify) {
-    const uint64_t expected = cell.resolution <= options.verifyOptions.exhaustiveUpTo
+    const uint64_t expected = built.map.resolution <= options.verifyOptions.exhaustiveUpTo
                                   ? built.texels * 7
                                   : options.verifyOptions.sampledQueries;
     Progress checking("verify " + label, expected, "queries");
@@ -120,6 +152,105 @@ Record runCell(const CellSpec& cell, const Scene& scene, const CellOptions& opti
   record.commit = sourceCommit(SHADOWBENCH_SOURCE_DIR);
   record.created = utcNow();
   record.complete = true;
+  return record;
+}
+
+PartsTarget targetOf(const ResolvedCell& cell, const CellSpec& spec, const Scene& scene,
+                     const CellOptions& options) {
+  PartsTarget target;
+  target.build = {cell.scheme, cell.params};
+  target.identity.structure = {cell.scheme->name, cell.params.text(),
+                               mapFor(*cell.scheme, spec.mode, spec.resolution), scene.hash()};
+  target.identity.light = cell.record.light;
+  target.identity.tileSize = cell.record.tileSize;
+  target.identity.partSize = spec.partSize;
+  target.folder = partsFolder(options.partsRoot, cell.record);
+  return target;
+}
+
+// Refuses, before the depth source spends time on the scene, any cell whose build would not fit.
+// Whole builds from one pass hold every encoder at once; parts hold one part of each.
+void checkCellsFit(std::span<const ResolvedCell> cells, const CellSpec& spec) {
+  const BuildShape shape = shapeOf(spec);
+  uint64_t together = 0;
+  for (const ResolvedCell& cell : cells) {
+    const MapInfo map = mapFor(*cell.scheme, spec.mode, spec.resolution);
+    if (shape.partSize) checkPartShape(*cell.scheme, map, shape);
+    together += checkBuildFits(*cell.scheme, map, cell.params, shape);
+  }
+  const uint64_t available = availableMemoryBytes();
+  if (cells.size() > 1 && together > available)
+    throw std::runtime_error(fmt::format(
+        "{} together at {}² need at least {:.2f} GiB to build from one depth pass but only {:.2f} "
+        "GiB is available; build them in parts (--part-size) or one at a time",
+        schemeNames(cells), spec.resolution, together / double(1ull << 30),
+        available / double(1ull << 30)));
+}
+
+}  // namespace
+
+std::filesystem::path partsFolder(const std::filesystem::path& partsRoot, const Record& identity) {
+  return partsRoot / cellKey(identity);
+}
+
+PartsEncoded encodeCellParts(std::span<const CellSpec> cells, const Scene& scene,
+                             const CellOptions& options, std::optional<uint64_t> only) {
+  const std::vector<ResolvedCell> resolved = resolveCells(cells, scene);
+  const CellSpec& spec = cells.front();
+  checkCellsFit(resolved, spec);
+  if (!spec.partSize) throw std::invalid_argument("cells without a part size are built whole");
+  std::vector<PartsTarget> targets;
+  for (size_t c = 0; c < cells.size(); ++c)
+    targets.push_back(targetOf(resolved[c], cells[c], scene, options));
+  const DepthSource source(scene, sceneLight(scene, spec.lightIndex), spec.mode, spec.resolution);
+  std::optional<Progress> progress;
+  const PartsEncoded encoded =
+      encodeParts(source, targets, shapeOf(spec), only, [&](uint64_t done, uint64_t total) {
+        if (!progress)
+          progress.emplace("parts " + labelOf(spec, scene, schemeNames(resolved)), total, "parts");
+        progress->set(done);
+      });
+  return encoded;
+}
+
+Record mergeCell(const CellSpec& cell, const Scene& scene, const CellOptions& options) {
+  const std::vector<ResolvedCell> resolved = resolveCells(std::span(&cell, 1), scene);
+  checkCellsFit(resolved, cell);
+  const DepthSource source(scene, sceneLight(scene, cell.lightIndex), cell.mode, cell.resolution);
+  const PartsTarget target = targetOf(resolved[0], cell, scene, options);
+  const BuildOutcome built = mergeParts(target, cell.mode, cell.resolution, shapeOf(cell));
+  return finishRecord(resolved[0].record, *resolved[0].scheme, built, scene, source, options,
+                      labelOf(cell, scene, resolved[0].scheme->name));
+}
+
+void runCells(std::span<const CellSpec> cells, const Scene& scene, const CellOptions& options,
+              const std::function<void(size_t, const Record&)>& done) {
+  const std::vector<ResolvedCell> resolved = resolveCells(cells, scene);
+  const CellSpec& spec = cells.front();
+  checkCellsFit(resolved, spec);
+  if (spec.partSize) {
+    encodeCellParts(cells, scene, options, std::nullopt);
+    for (size_t c = 0; c < cells.size(); ++c) done(c, mergeCell(cells[c], scene, options));
+    return;
+  }
+  const DepthSource source(scene, sceneLight(scene, spec.lightIndex), spec.mode, spec.resolution);
+  std::vector<SchemeBuild> builds;
+  for (const ResolvedCell& cell : resolved) builds.push_back({cell.scheme, cell.params});
+  const std::string label = labelOf(spec, scene, schemeNames(resolved));
+  Progress building("build " + label, uint64_t(spec.resolution) * spec.resolution, "texels");
+  std::vector<BuildOutcome> built = buildStructures(source, builds, shapeOf(spec),
+                                                    [&](uint64_t texels) { building.set(texels); });
+  building.finish();
+  for (size_t c = 0; c < cells.size(); ++c) {
+    done(c, finishRecord(resolved[c].record, *resolved[c].scheme, built[c], scene, source, options,
+                         labelOf(spec, scene, resolved[c].scheme->name)));
+    built[c].decoder.reset();  // only one finished structure is kept at a time beyond the build
+  }
+}
+
+Record runCell(const CellSpec& cell, const Scene& scene, const CellOptions& options) {
+  Record record;
+  runCells(std::span(&cell, 1), scene, options, [&](size_t, const Record& r) { record = r; });
   return record;
 }
 

@@ -18,9 +18,14 @@ uint64_t fnv1a(std::string_view text) {
 }  // namespace
 
 nlohmann::json recordRequest(const Record& r) {
-  return {{"scene", r.scene.spec},   {"light_index", r.lightIndex}, {"mode", r.mode},
-          {"scheme", r.scheme.name}, {"params", r.scheme.params},   {"resolution", r.resolution},
-          {"tile_size", r.tileSize}};
+  nlohmann::json request = {
+      {"scene", r.scene.spec},   {"light_index", r.lightIndex}, {"mode", r.mode},
+      {"scheme", r.scheme.name}, {"params", r.scheme.params},   {"resolution", r.resolution},
+      {"tile_size", r.tileSize}};
+  // A build in parts is its own request (its size may differ from the whole build's); whole
+  // builds keep the keys they had before builds in parts existed.
+  if (r.partSize) request["part_size"] = r.partSize;
+  return request;
 }
 
 nlohmann::json recordIdentity(const Record& r) {
@@ -63,6 +68,7 @@ std::string readableCellKey(const Record& r) {
   for (const auto& [name, value] : r.scheme.params)  // sorted by name: a stable order
     key += fmt::format("_{}-{}", fileNamePart(name), fileNamePart(value));
   key += fmt::format("_{}", r.resolution);
+  if (r.partSize) key += fmt::format("_parts-{}", r.partSize);
 
   // File names stop at 255 bytes; the request hash, ".json" and the temporary's prefix and
   // suffix are added to this.

@@ -11,8 +11,9 @@
 namespace sb {
 
 // What a user asks for when naming a cell: the scene spec, light index, mode, scheme with its
-// resolved parameters, resolution and tile size. Records of one request that differ in their
-// identity are an older and a newer answer to it (an edited scene): the newer supersedes.
+// resolved parameters, resolution, tile size and part size (builds in parts only). Records of one
+// request that differ in their identity are an older and a newer answer to it (an edited scene):
+// the newer supersedes.
 nlohmann::json recordRequest(const Record& record);
 
 // The request with everything that decides the result: the scene's name and hash (its content),
@@ -21,7 +22,7 @@ nlohmann::json recordRequest(const Record& record);
 nlohmann::json recordIdentity(const Record& record);
 
 // The readable part of a record's file name:
-//   <scene>_<light index>_<mode>_<scheme>[_<param>-<value>...]_<resolution>
+//   <scene>_<light index>_<mode>_<scheme>[_<param>-<value>...]_<resolution>[_parts-<part size>]
 // lower case, characters [a-z0-9_.-] only, at most 190 characters. Records written before the
 // request hash was added are named by this alone.
 std::string readableCellKey(const Record& record);

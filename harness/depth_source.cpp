@@ -230,14 +230,13 @@ uint32_t defaultTileSize(uint32_t resolution) {
   return std::min<uint32_t>(resolution, 512);
 }
 
-StreamStats streamDualDepth(const DepthSource& source, uint32_t tileSize,
-                            const std::function<void(const DualDepthTile&)>& consume,
-                            const std::function<void(uint64_t)>& progress) {
-  const uint32_t resolution = source.resolution();
-  if (tileSize == 0) throw std::invalid_argument("tile size 0: pass defaultTileSize(R)");
-  checkTileSize(tileSize, resolution);
-  const uint64_t tilesPerSide = resolution / tileSize, tileCount = tilesPerSide * tilesPerSide;
-  uint64_t next = 0, texelsDone = 0;
+namespace {
+
+// Streams the tiles [first, end) of the map's Morton order of tiles.
+StreamStats streamTiles(const DepthSource& source, uint32_t tileSize, uint64_t first, uint64_t end,
+                        const std::function<void(const DualDepthTile&)>& consume,
+                        const std::function<void(uint64_t)>& progress) {
+  uint64_t next = first, texelsDone = 0;
   std::atomic<int64_t> traceNanoseconds{0};
   const auto start = std::chrono::steady_clock::now();
   const size_t tokens = size_t(2 * tbb::this_task_arena::max_concurrency());
@@ -255,7 +254,7 @@ StreamStats streamDualDepth(const DepthSource& source, uint32_t tileSize,
   tbb::parallel_pipeline(
       tokens, tbb::make_filter<void, uint64_t>(tbb::filter_mode::serial_in_order,
                                                [&](tbb::flow_control& control) -> uint64_t {
-                                                 if (next == tileCount || failed) control.stop();
+                                                 if (next == end || failed) control.stop();
                                                  return next++;
                                                }) &
                   tbb::make_filter<uint64_t, std::shared_ptr<DualDepthTile>>(
@@ -290,6 +289,30 @@ StreamStats streamDualDepth(const DepthSource& source, uint32_t tileSize,
   if (failure) std::rethrow_exception(failure);
   const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - start;
   return {double(traceNanoseconds.load()) * 1e-9, wall.count()};
+}
+
+}  // namespace
+
+StreamStats streamDualDepth(const DepthSource& source, uint32_t tileSize,
+                            const std::function<void(const DualDepthTile&)>& consume,
+                            const std::function<void(uint64_t)>& progress) {
+  if (tileSize == 0) throw std::invalid_argument("tile size 0: pass defaultTileSize(R)");
+  checkTileSize(tileSize, source.resolution());
+  const uint64_t tilesPerSide = source.resolution() / tileSize;
+  return streamTiles(source, tileSize, 0, tilesPerSide * tilesPerSide, consume, progress);
+}
+
+StreamStats streamDualDepth(const DepthSource& source, uint32_t tileSize, const MapPart& part,
+                            const std::function<void(const DualDepthTile&)>& consume,
+                            const std::function<void(uint64_t)>& progress) {
+  if (tileSize == 0) throw std::invalid_argument("tile size 0: pass defaultTileSize(R)");
+  checkTileSize(tileSize, source.resolution());
+  if (tileSize > part.size || part.size > source.resolution())
+    throw std::invalid_argument(fmt::format("tile size {} does not fit parts of {}² in a {}² map",
+                                            tileSize, part.size, source.resolution()));
+  const uint64_t tilesPerPart = uint64_t(part.size / tileSize) * (part.size / tileSize);
+  return streamTiles(source, tileSize, part.index * tilesPerPart, (part.index + 1) * tilesPerPart,
+                     consume, progress);
 }
 
 }  // namespace sb

@@ -16,6 +16,7 @@
 #include "harness/light.h"
 #include "harness/light_space_rasterizer.h"
 #include "scenes/scene.h"
+#include "schemes/interface/parts.h"
 #include "schemes/interface/scheme.h"
 
 namespace sb {
@@ -90,6 +91,11 @@ struct StreamStats {
 // in Morton order, traced in parallel and consumed in order on one thread at a time.
 // `progress` (optional) is called after each consumed tile with texels done so far.
 StreamStats streamDualDepth(const DepthSource& source, uint32_t tileSize,
+                            const std::function<void(const DualDepthTile&)>& consume,
+                            const std::function<void(uint64_t texelsDone)>& progress = {});
+// The same over one part of the map (parts.h): its tiles are a run of the whole map's Morton
+// order, streamed in that order; `tileSize` must not exceed the part.
+StreamStats streamDualDepth(const DepthSource& source, uint32_t tileSize, const MapPart& part,
                             const std::function<void(const DualDepthTile&)>& consume,
                             const std::function<void(uint64_t texelsDone)>& progress = {});
 

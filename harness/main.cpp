@@ -52,6 +52,9 @@ int main(int argc, char** argv) {
   sb::cli::addSceneCommand(app);
   sb::cli::addDepthCommand(app);
   sb::cli::addBuildCommand(app);
+  sb::cli::addPartCommand(app);
+  sb::cli::addMergeCommand(app);
+  sb::cli::addEstimateCommand(app);
   sb::cli::addVerifyCommand(app);
   sb::cli::addQueryCommand(app);
   sb::cli::addBenchCommand(app);

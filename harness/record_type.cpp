@@ -15,9 +15,13 @@ namespace {
 
 // The fields of a record that this version reads; every other top-level field goes to `extra`.
 const std::set<std::string, std::less<>> kKnownFields = {
-    "format",     "complete",         "scene",     "light_index", "light",  "mode",   "scheme",
-    "resolution", "depth_resolution", "tile_size", "size_bytes",  "time_s", "depth",  "counters",
-    "memory",     "verification",     "lookup",    "machine",     "commit", "created"};
+    "format",      "complete",     "scene",
+    "light_index", "light",        "mode",
+    "scheme",      "resolution",   "depth_resolution",
+    "tile_size",   "part_size",    "size_bytes",
+    "time_s",      "depth",        "counters",
+    "memory",      "verification", "lookup",
+    "machine",     "commit",       "created"};
 
 // A JSON object read field by field; errors name the field by its dotted path.
 class Fields {
@@ -163,18 +167,24 @@ void to_json(json& j, const Record& r) {
   j["resolution"] = r.resolution;
   j["depth_resolution"] = r.depthResolution;
   j["tile_size"] = r.tileSize;
+  if (r.partSize) j["part_size"] = r.partSize;
   j["size_bytes"] = {{"total", r.sizeBytes}, {"components", r.sizeComponents}};
-  if (r.time)
+  if (r.time) {
     j["time_s"] = {{"total", r.time->total}, {"depth", r.time->depth}, {"phases", r.time->phases}};
+    if (!r.time->depthSharedWith.empty())
+      j["time_s"]["depth_shared_with"] = r.time->depthSharedWith;
+  }
   if (r.depth)
     j["depth"] = {{"texels", r.depth->texels},
                   {"mtexels_per_s", r.depth->mtexelsPerSecond},
                   {"closed_fallbacks", r.depth->closedFallbacks},
                   {"method", r.depth->method}};
   j["counters"] = r.counters;
-  if (r.memory)
+  if (r.memory) {
     j["memory"] = {{"peak_rss_bytes", r.memory->peakRssBytes},
                    {"baseline_rss_bytes", r.memory->baselineRssBytes}};
+    if (r.memory->estimatedBytes) j["memory"]["estimated_bytes"] = r.memory->estimatedBytes;
+  }
   if (r.verification)
     j["verification"] = {{"method", r.verification->method},
                          {"queries", r.verification->queries},
@@ -232,14 +242,28 @@ void from_json(const json& j, Record& out) {
   r.resolution = resolutionOf(top);
   r.depthResolution = smallCount(top, "depth_resolution");
   r.tileSize = smallCount(top, "tile_size");
+  r.partSize = smallCount(top, "part_size");
   const Fields size = top.object("size_bytes");
   r.sizeBytes = size.count("total", true);
   r.sizeComponents = mapOf<uint64_t>(size, "components", Fields::countValue);
 
   if (top.has("time_s")) {
     const Fields time = top.object("time_s");
-    r.time = RecordTimes{time.amount("total"), time.amount("depth"),
-                         mapOf<double>(time, "phases", Fields::amountValue)};
+    r.time = RecordTimes{time.amount("total"),
+                         time.amount("depth"),
+                         mapOf<double>(time, "phases", Fields::amountValue),
+                         {}};
+    if (const json* shared = time.find("depth_shared_with")) {
+      if (!shared->is_array())
+        throw RecordError(
+            fmt::format("time_s.depth_shared_with is {}, not a list", Fields::shown(*shared)));
+      for (const json& name : *shared) {
+        if (!name.is_string())
+          throw RecordError(fmt::format("time_s.depth_shared_with holds {}, not a scheme name",
+                                        Fields::shown(name)));
+        r.time->depthSharedWith.push_back(name.get<std::string>());
+      }
+    }
   }
   if (top.has("depth")) {
     const Fields depth = top.object("depth");
@@ -249,7 +273,8 @@ void from_json(const json& j, Record& out) {
   r.counters = mapOf<uint64_t>(top, "counters", Fields::countValue);
   if (top.has("memory")) {
     const Fields memory = top.object("memory");
-    r.memory = RecordMemory{memory.count("peak_rss_bytes"), memory.count("baseline_rss_bytes")};
+    r.memory = RecordMemory{memory.count("peak_rss_bytes"), memory.count("baseline_rss_bytes"),
+                            memory.count("estimated_bytes")};
   }
   if (top.has("verification")) {
     const Fields v = top.object("verification");

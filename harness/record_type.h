@@ -42,6 +42,8 @@ struct RecordTimes {
   double total = 0;  // wall time of the whole build
   double depth = 0;  // depth generation
   std::map<std::string, double> phases;
+  // The other schemes one depth pass also fed (issue 12): `depth` is the time of that shared pass.
+  std::vector<std::string> depthSharedWith;
 };
 
 struct RecordDepth {
@@ -53,6 +55,7 @@ struct RecordDepth {
 
 struct RecordMemory {
   uint64_t peakRssBytes = 0, baselineRssBytes = 0;
+  uint64_t estimatedBytes = 0;  // the scheme's declared build memory, checked before the build
 };
 
 struct RecordVerification {
@@ -81,6 +84,7 @@ struct Record {
   uint32_t resolution = 0;
   uint32_t depthResolution = 0;
   uint32_t tileSize = 0;
+  uint32_t partSize = 0;  // a build in parts (DESIGN §5) of this side; 0 for a whole build
   uint64_t sizeBytes = 0;
   std::map<std::string, uint64_t> sizeComponents;
   std::optional<RecordTimes> time;

@@ -1,15 +1,18 @@
 #include "harness/sweep.h"
 
+#include <algorithm>
 #include <deque>
 #include <set>
 #include <stdexcept>
 #include <system_error>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include "harness/cell_key.h"
 #include "harness/cell_lock.h"
+#include "harness/machine.h"
 #include "harness/record.h"
 
 namespace fs = std::filesystem;
@@ -93,7 +96,12 @@ SweepPlan plan(const SweepSpec& spec) {
         for (uint32_t resolution : resolutions) {
           PlannedCell cell;
           cell.spec = {spec.scenes[s], 0, mode, scheme->name, declaredParams(*scheme, spec.params),
-                       resolution,     0};
+                       resolution, 0,
+                       // Schemes that build only whole are built whole (and refused below
+                       // where that does not fit).
+                       scheme->buildsInParts() && spec.partSize && spec.partSize < resolution
+                           ? spec.partSize
+                           : 0};
           cell.scene = &plan.scenes[s];
           cell.identity = cellIdentity(cell.spec, *cell.scene);
           cell.key = cellKey(cell.identity);
@@ -101,8 +109,10 @@ SweepPlan plan(const SweepSpec& spec) {
           cell.legacyPath = spec.out / (readableCellKey(cell.identity) + ".json");
           if (!answering(cell.path, cell.identity) && !answering(cell.legacyPath, cell.identity)) {
             try {
-              checkBuildFits(*scheme, mapFor(*scheme, mode, resolution),
-                             scheme->resolve(cell.spec.params), BuildShape{cell.identity.tileSize});
+              const BuildShape shape{cell.identity.tileSize, cell.spec.partSize};
+              const MapInfo map = mapFor(*scheme, mode, resolution);
+              if (shape.partSize) checkPartShape(*scheme, map, shape);
+              checkBuildFits(*scheme, map, scheme->resolve(cell.spec.params), shape);
             } catch (const std::exception& error) {
               throw std::runtime_error(fmt::format("cell {}: {}", cell.key, error.what()));
             }
@@ -125,29 +135,47 @@ class Sweeper {
  public:
   Sweeper(const SweepSpec& spec, const SweepEvents& events) : spec_(spec), events_(events) {}
 
-  // Builds the cell unless a record answers it; the caller holds the cell's lock.
-  void buildOrReuse(const PlannedCell& cell) {
+  // Whether a record answers the cell (moving a record from its name before the request hash
+  // to the cell's path); the caller holds the cell's lock.
+  bool reuse(const PlannedCell& cell) {
     if (answering(cell.path, cell.identity)) {
       ++outcome.reused;
-      return;
+      return true;
     }
     if (answering(cell.legacyPath, cell.identity)) {
       fs::rename(cell.legacyPath, cell.path);
       ++outcome.reused;
-      return;
+      return true;
     }
-    try {
-      const Record record = runCell(cell.spec, *cell.scene, spec_.cellOptions);
-      moveAsideOlderRecords(cell);
-      writeRecord(cell.path, record);
-      ++outcome.built;
-      if (record.verification && record.verification->mismatches > 0) ++outcome.failed;
-      if (events_.built) events_.built(record);
-    } catch (const std::exception& error) {
-      // One cell that cannot be built (e.g. memory taken since the check) does not stop the
-      // sweep.
-      warn(fmt::format("cell {} skipped: {}", cell.key, error.what()));
-      ++outcome.failed;
+    return false;
+  }
+
+  // Builds cells of one map from one depth pass, in batches that fit in memory together; the
+  // caller holds their locks. Each record is written as soon as its cell is complete.
+  void buildTogether(const std::vector<const PlannedCell*>& cells) {
+    for (const std::vector<const PlannedCell*>& batch : batchesThatFit(cells)) {
+      std::vector<CellSpec> specs;
+      for (const PlannedCell* cell : batch) specs.push_back(cell->spec);
+      std::vector<bool> finished(batch.size(), false);
+      try {
+        runCells(specs, *batch.front()->scene, spec_.cellOptions,
+                 [&](size_t c, const Record& record) {
+                   moveAsideOlderRecords(*batch[c]);
+                   writeRecord(batch[c]->path, record);
+                   finished[c] = true;
+                   ++outcome.built;
+                   if (record.verification && record.verification->mismatches > 0) ++outcome.failed;
+                   if (events_.built) events_.built(record);
+                 });
+      } catch (const std::exception& error) {
+        // Cells that cannot be built (e.g. memory taken since the check) do not stop the sweep;
+        // those of the batch already recorded stay.
+        for (size_t c = 0; c < batch.size(); ++c)
+          if (!finished[c]) {
+            warn(fmt::format("cell {} skipped: {}", batch[c]->key, error.what()));
+            ++outcome.failed;
+          }
+      }
     }
   }
 
@@ -199,6 +227,27 @@ class Sweeper {
                      why, target.string()));
   }
 
+  // Consecutive runs of `cells` whose declared build memory fits in what is free together.
+  static std::vector<std::vector<const PlannedCell*>> batchesThatFit(
+      const std::vector<const PlannedCell*>& cells) {
+    const uint64_t available = availableMemoryBytes();
+    std::vector<std::vector<const PlannedCell*>> batches;
+    uint64_t held = 0;
+    for (const PlannedCell* cell : cells) {
+      const SchemeInfo& scheme = findScheme(cell->spec.scheme);
+      const uint64_t bytes =
+          scheme.buildBytes
+              ? scheme.buildBytes(mapFor(scheme, cell->spec.mode, cell->spec.resolution),
+                                  scheme.resolve(cell->spec.params),
+                                  BuildShape{cell->identity.tileSize, cell->spec.partSize})
+              : 0;
+      if (batches.empty() || held + bytes > available) batches.emplace_back(), held = 0;
+      batches.back().push_back(cell);
+      held += bytes;
+    }
+    return batches;
+  }
+
   const SweepSpec& spec_;
   const SweepEvents& events_;
 };
@@ -208,19 +257,34 @@ class Sweeper {
 SweepOutcome runSweep(const SweepSpec& spec, const SweepEvents& events) {
   const SweepPlan planned = plan(spec);
   Sweeper sweeper(spec, events);
+  // Cells of one map are adjacent once sorted by it: scene, mode, resolution.
+  std::vector<const PlannedCell*> order;
+  for (const PlannedCell& cell : planned.cells) order.push_back(&cell);
+  const auto mapOf = [](const PlannedCell* cell) {
+    return std::tuple(cell->scene, cell->spec.mode, cell->spec.resolution);
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](const PlannedCell* a, const PlannedCell* b) { return mapOf(a) < mapOf(b); });
   std::vector<const PlannedCell*> heldElsewhere;
-  for (const PlannedCell& cell : planned.cells) {
-    const auto lock = CellLock::acquire(spec.out, cell.key, /*wait=*/false);
-    if (!lock) {
-      heldElsewhere.push_back(&cell);
-      continue;
+  for (size_t begin = 0; begin < order.size();) {
+    size_t end = begin;
+    while (end < order.size() && mapOf(order[end]) == mapOf(order[begin])) ++end;
+    std::vector<CellLock> locks;
+    std::vector<const PlannedCell*> toBuild;
+    for (size_t c = begin; c < end; ++c) {
+      auto lock = CellLock::acquire(spec.out, order[c]->key, /*wait=*/false);
+      if (!lock)
+        heldElsewhere.push_back(order[c]);
+      else if (!sweeper.reuse(*order[c]))
+        toBuild.push_back(order[c]), locks.push_back(std::move(*lock));
     }
-    sweeper.buildOrReuse(cell);
+    sweeper.buildTogether(toBuild);
+    begin = end;
   }
   for (const PlannedCell* cell : heldElsewhere) {
     sweeper.warn(fmt::format("cell {} is being built by another sweep: waiting for it", cell->key));
     const auto lock = CellLock::acquire(spec.out, cell->key, /*wait=*/true);
-    sweeper.buildOrReuse(*cell);
+    if (!sweeper.reuse(*cell)) sweeper.buildTogether({cell});
   }
 
   FolderTables found = tablesOfFolder(spec.out);

@@ -24,6 +24,9 @@ struct SweepSpec {
   // parameter of one scheme beside others; a parameter no swept scheme has is an error.
   Params params;
   std::filesystem::path out = "results/sweep";
+  // Cells above this resolution are built in parts of this side (0: every cell whole); their part
+  // files go to cellOptions.partsRoot.
+  uint32_t partSize = 0;
   CellOptions cellOptions;
 };
 
@@ -42,9 +45,10 @@ struct SweepOutcome {
 // resolution, scheme and parameter is valid, every cell still to build fits in memory, the
 // folder is writable — and throws naming the first problem. Then builds each cell unless a record
 // in `out` answers it (recordIdentity equal), under a CellLock: a cell another sweep holds is
-// revisited at the end, after waiting for its lock. A rebuilt cell's older records (same
-// request, other identity) move to <out>/superseded/. A cell that fails does not stop the
-// sweep. Finally writes the tables of the folder to <out>/tables.
+// revisited at the end, after waiting for its lock. Cells of one map (scene, mode, resolution)
+// are built together from one depth pass, as many at once as fit in memory (issue 12). A rebuilt
+// cell's older records (same request, other identity) move to <out>/superseded/. A cell that fails
+// does not stop the sweep. Finally writes the tables of the folder to <out>/tables.
 SweepOutcome runSweep(const SweepSpec& spec, const SweepEvents& events = {});
 
 }  // namespace sb

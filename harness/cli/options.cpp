@@ -1,5 +1,6 @@
 #include "harness/cli/options.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <sstream>
@@ -8,6 +9,9 @@
 #include <fmt/format.h>
 
 #include "harness/cell.h"
+#include "harness/cell_key.h"
+#include "harness/record.h"
+#include "harness/resolution.h"
 #include "schemes/interface/atomic_file.h"
 
 namespace fs = std::filesystem;
@@ -56,6 +60,118 @@ Params parseParams(const std::vector<std::string>& assignments) {
                                               previous->first, previous->second, a.substr(eq + 1)));
   }
   return params;
+}
+
+void SchemeOptions::addTo(CLI::App* app, const std::string& defaultScheme) {
+  schemes = {defaultScheme};
+  app->add_option("--scheme", schemes,
+                  "scheme name (see 'shadowbench schemes'); several (repeated or a,b,c) share one "
+                  "depth pass")
+      ->delimiter(',')
+      ->capture_default_str();
+  app->add_option("--param,-p", params,
+                  "scheme parameter name=value, or scheme:name=value with several schemes "
+                  "(repeatable)");
+}
+
+std::vector<std::pair<std::string, Params>> SchemeOptions::resolve() const {
+  std::vector<std::pair<std::string, Params>> resolved;
+  for (const std::string& name : schemes) {
+    findScheme(name);
+    for (const auto& [other, params] : resolved)
+      if (other == name) throw std::invalid_argument(fmt::format("scheme '{}' given twice", name));
+    resolved.emplace_back(name, Params{});
+  }
+  std::vector<std::vector<std::string>> assignments(resolved.size());
+  for (const std::string& assignment : params) {
+    const size_t colon = assignment.find(':'), eq = assignment.find('=');
+    if (colon != std::string::npos && colon < eq) {
+      const std::string scheme = assignment.substr(0, colon);
+      const auto it = std::find_if(resolved.begin(), resolved.end(),
+                                   [&](const auto& entry) { return entry.first == scheme; });
+      if (it == resolved.end())
+        throw std::invalid_argument(fmt::format(
+            "parameter '{}' names scheme '{}', which is not among --scheme", assignment, scheme));
+      assignments[size_t(it - resolved.begin())].push_back(assignment.substr(colon + 1));
+    } else if (resolved.size() == 1) {
+      assignments[0].push_back(assignment);
+    } else {
+      throw std::invalid_argument(fmt::format(
+          "parameter '{}' must name its scheme (scheme:name=value) when several are built",
+          assignment));
+    }
+  }
+  for (size_t s = 0; s < resolved.size(); ++s) {
+    resolved[s].second = parseParams(assignments[s]);
+    findScheme(resolved[s].first).resolve(resolved[s].second);
+  }
+  return resolved;
+}
+
+void PartOptions::addTo(CLI::App* app, bool partSizeRequired) {
+  auto* option = app->add_option(
+      "--part-size", partSize,
+      "build in square parts of this side (a power of two such as 16K), each saved as a part file "
+      "and merged; a killed build resumes from its part files");
+  if (partSizeRequired) option->required();
+  app->add_option("--parts", partsRoot, "folder of the part files (one subfolder per cell)")
+      ->capture_default_str();
+}
+
+uint32_t PartOptions::partSizeValue() const {
+  return partSize.empty() ? 0 : parseResolution(partSize);
+}
+
+std::vector<CellSpec> cellsOf(const MapOptions& map, const SchemeOptions& schemes,
+                              const PartOptions& parts) {
+  const DepthMode mode = depthModeFromString(map.mode);
+  const uint32_t resolution = parseResolution(map.resolution);
+  checkTileSize(map.tile, resolution);
+  const uint32_t partSize = parts.partSizeValue();
+  const uint32_t tile = map.tile ? map.tile : defaultTileSize(resolution);
+  if (partSize && (partSize >= resolution || partSize < tile))
+    throw std::invalid_argument(
+        fmt::format("part size {} must lie from the tile size {} to below the resolution {}",
+                    resolutionLabel(partSize), tile, resolutionLabel(resolution)));
+  std::vector<CellSpec> cells;
+  for (const auto& [scheme, params] : schemes.resolve())
+    cells.push_back({map.scene, map.light, mode, scheme, params, resolution, map.tile, partSize});
+  return cells;
+}
+
+void RecordOptions::addTo(CLI::App* app) {
+  app->add_option("--output,-o", output, "save the structure to this file (one scheme)");
+  app->add_option("--results", results, "folder for the JSON records")->capture_default_str();
+  app->add_flag("--no-verify", noVerify, "skip the check against the reference");
+  app->add_flag("--no-bench", noBench, "skip lookup timings");
+  addSampledQueries(app, sampledQueries);
+}
+
+void RecordOptions::checkOutputs(const std::vector<CellSpec>& cells,
+                                 const std::string& sceneSpec) const {
+  if (!output.empty() && cells.size() > 1)
+    throw std::invalid_argument("--output saves one structure: give one --scheme with it");
+  if (!output.empty()) checkOutputFile(output, sceneSourceFiles(sceneSpec));
+  checkWritableFolder(results);
+}
+
+CellOptions RecordOptions::cellOptions(const PartOptions& parts) const {
+  CellOptions options;
+  options.verify = !noVerify;
+  options.benchLookups = !noBench;
+  options.verifyOptions.sampledQueries = sampledQueries;
+  if (!output.empty()) options.saveStructureTo = output;
+  options.partsRoot = parts.partsRoot;
+  return options;
+}
+
+bool writeCellRecord(const Record& built, const std::string& results) {
+  const nlohmann::json record = built;
+  const fs::path recordPath = fs::path(results) / (cellKey(built) + ".json");
+  writeJsonAtomically(recordPath, record);
+  printCellSummary(record);
+  fmt::print("record: {}\n", recordPath.string());
+  return hasMismatches(record);
 }
 
 std::vector<std::string> splitList(const std::string& text) {

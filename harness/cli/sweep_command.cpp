@@ -14,6 +14,7 @@ struct SweepOptions {
   std::string scenes = "city", modes = "closed", schemes = "all";
   std::string resolutions = "1K,2K,4K,8K", out = "results/sweep";
   std::vector<std::string> params;
+  PartOptions parts;
   bool noBench = false;
   uint64_t sampledQueries = 10'000'000;
 };
@@ -26,6 +27,8 @@ int sweep(const SweepOptions& o) {
   spec.resolutions = splitList(o.resolutions);
   spec.params = parseParams(o.params);
   spec.out = o.out;
+  spec.partSize = o.parts.partSizeValue();
+  spec.cellOptions.partsRoot = o.parts.partsRoot;
   spec.cellOptions.benchLookups = !o.noBench;
   spec.cellOptions.verifyOptions.sampledQueries = o.sampledQueries;
   SweepEvents events;
@@ -58,6 +61,7 @@ void addSweepCommand(CLI::App& app) {
                   "records folder (cells with a record there are reused; other sweeps may share "
                   "it)")
       ->capture_default_str();
+  o->parts.addTo(sub, false);
   sub->add_flag("--no-bench", o->noBench, "skip lookup timings");
   addSampledQueries(sub, o->sampledQueries);
   sub->callback([o] { setExitStatus(sweep(*o)); });

@@ -20,12 +20,11 @@ namespace sb {
 
 namespace {
 
-constexpr char kMagic[8] = {'S', 'H', 'D', 'W', 'B', 'N', 'C', 'H'};
 // Magic, container version and header length: what a reader checks before anything else.
-constexpr size_t kPrefixBytes = sizeof kMagic + 2 * sizeof(uint32_t);
+constexpr size_t kPrefixBytes = sizeof(FileFraming::magic) + 2 * sizeof(uint32_t);
 // Everything but the header and the payload: the prefix, the payload length and the checksum.
 constexpr size_t kFramingBytes = kPrefixBytes + 2 * sizeof(uint64_t);
-// The largest header we accept: a scheme name and a handful of parameters.
+// The largest header we accept: a scheme name, a handful of parameters, a part's build figures.
 constexpr uint32_t kMaxHeaderBytes = 1 << 16;
 constexpr size_t kSceneHashDigits = 16;
 
@@ -36,7 +35,9 @@ bool validSceneHash(std::string_view hash) {
                           hash.find_first_not_of("0123456789abcdef") == std::string_view::npos);
 }
 
-std::string headerJson(const StructureHeader& header) {
+}  // namespace
+
+std::string structureHeaderJson(const StructureHeader& header) {
   Json params = Json::object();
   for (const auto& [name, value] : header.params) params[name] = value;
   return Json{{"scheme", header.scheme},
@@ -47,6 +48,8 @@ std::string headerJson(const StructureHeader& header) {
               {"scene_hash", header.sceneHash}}
       .dump();
 }
+
+namespace {
 
 [[noreturn]] void headerError(std::string_view why) {
   throw FormatError(fmt::format("structure header: {}", why));
@@ -140,66 +143,47 @@ ParsedHeader parseHeader(std::string_view text) {
 }
 
 // Magic, version and header length, from the first kPrefixBytes of a file.
-uint32_t headerLengthFromPrefix(std::span<const uint8_t> prefix) {
-  if (std::memcmp(prefix.data(), kMagic, sizeof kMagic) != 0)
-    throw FormatError("not a shadowbench structure (bad magic)");
-  ByteReader reader(prefix.subspan(sizeof kMagic));
+uint32_t headerLengthFromPrefix(const FileFraming& framing, std::span<const uint8_t> prefix) {
+  if (std::memcmp(prefix.data(), framing.magic.data(), framing.magic.size()) != 0)
+    throw FormatError(fmt::format("not a shadowbench {} (bad magic)", framing.noun));
+  ByteReader reader(prefix.subspan(framing.magic.size()));
   const auto version = reader.get<uint32_t>("container version");
-  if (version != kStructureFileVersion)
-    throw FormatError(
-        fmt::format("structure file version {} is not supported (this build reads {})", version,
-                    kStructureFileVersion));
+  if (version != framing.version)
+    throw FormatError(fmt::format("{} version {} is not supported (this build reads {})",
+                                  framing.noun, version, framing.version));
   const auto headerBytes = reader.get<uint32_t>("header length");
   if (headerBytes > kMaxHeaderBytes)
-    throw FormatError(fmt::format("structure header length {} is invalid", headerBytes));
+    throw FormatError(fmt::format("{} header length {} is invalid", framing.noun, headerBytes));
   return headerBytes;
 }
 
-void checkFileSize(uint64_t fileBytes) {
+void checkFileSize(const FileFraming& framing, uint64_t fileBytes) {
   if (fileBytes < kFramingBytes)
     throw FormatError(
-        fmt::format("not a shadowbench structure: {} bytes is shorter than any", fileBytes));
+        fmt::format("not a shadowbench {}: {} bytes is shorter than any", framing.noun, fileBytes));
 }
 
-void checkHeaderFits(uint32_t headerBytes, uint64_t fileBytes) {
+void checkHeaderFits(const FileFraming& framing, uint32_t headerBytes, uint64_t fileBytes) {
   if (headerBytes > fileBytes - kFramingBytes)
-    throw FormatError(fmt::format(
-        "structure file is truncated or corrupted: a header of {} bytes does not fit {} bytes",
-        headerBytes, fileBytes));
+    throw FormatError(
+        fmt::format("{} is truncated or corrupted: a header of {} bytes does not fit {} bytes",
+                    framing.noun, headerBytes, fileBytes));
 }
 
 // The payload length stored after the header must account for every other byte of the file.
-void checkPayloadLength(uint64_t payloadBytes, uint32_t headerBytes, uint64_t fileBytes) {
+void checkPayloadLength(const FileFraming& framing, uint64_t payloadBytes, uint32_t headerBytes,
+                        uint64_t fileBytes) {
   const uint64_t left = fileBytes - kFramingBytes - headerBytes;
   if (payloadBytes != left)
-    throw FormatError(fmt::format(
-        "structure file is truncated or corrupted: payload length {} where the file holds {}",
-        payloadBytes, left));
+    throw FormatError(
+        fmt::format("{} is truncated or corrupted: payload length {} where the file holds {}",
+                    framing.noun, payloadBytes, left));
 }
 
 uint64_t loadU64(const uint8_t* bytes) {
   uint64_t value;
   std::memcpy(&value, bytes, sizeof value);
   return value;
-}
-
-void putPayloadTag(ByteWriter& out, std::string_view scheme) {
-  if (scheme.empty() || scheme.size() > UINT8_MAX)
-    throw std::invalid_argument(
-        fmt::format("scheme name '{}' cannot tag a structure payload", shown(scheme)));
-  out.put<uint8_t>(uint8_t(scheme.size()));
-  out.append(scheme.data(), scheme.size());
-}
-
-void checkPayloadTag(ByteReader& in, std::string_view scheme) {
-  const auto length = in.get<uint8_t>("payload tag length");
-  std::string tag(length, '\0');
-  for (char& c : tag) c = char(in.get<uint8_t>("payload tag"));
-  if (tag != scheme)
-    throw FormatError(
-        fmt::format("the payload was written by scheme '{}', not by '{}' as the "
-                    "header says",
-                    shown(tag), scheme));
 }
 
 // A structure file opened for reading: regular files only (a device or a FIFO has no size to
@@ -246,6 +230,12 @@ class StructureFileReader {
 
 }  // namespace
 
+StructureHeader parseStructureHeader(std::string_view json, ParamValues* params) {
+  ParsedHeader parsed = parseHeader(json);
+  if (params) *params = std::move(parsed.params);
+  return std::move(parsed.header);
+}
+
 void ByteWriter::append(const void* data, size_t bytes) {
   const auto* begin = static_cast<const uint8_t*>(data);
   bytes_.insert(bytes_.end(), begin, begin + bytes);
@@ -273,6 +263,73 @@ void ByteReader::expectEnd() const {
     throw FormatError(fmt::format("{} unexpected bytes after the payload", remaining()));
 }
 
+std::vector<uint8_t> frameFile(const FileFraming& framing, std::string_view header,
+                               std::span<const uint8_t> payload) {
+  ByteWriter file;
+  file.append(framing.magic.data(), framing.magic.size());
+  file.put<uint32_t>(framing.version);
+  file.put<uint32_t>(uint32_t(header.size()));
+  file.append(header.data(), header.size());
+  file.put<uint64_t>(payload.size());
+  file.append(payload.data(), payload.size());
+  file.put<uint64_t>(XXH3_64bits(file.bytes().data(), file.bytes().size()));
+  return file.release();
+}
+
+FramedFile unframeFile(const FileFraming& framing, std::span<const uint8_t> file) {
+  checkFileSize(framing, file.size());
+  const uint32_t headerBytes = headerLengthFromPrefix(framing, file.first(kPrefixBytes));
+  const size_t body = file.size() - sizeof(uint64_t);
+  if (XXH3_64bits(file.data(), body) != loadU64(file.data() + body))
+    throw FormatError(
+        fmt::format("{} is truncated or corrupted (checksum mismatch)", framing.noun));
+  checkHeaderFits(framing, headerBytes, file.size());
+  const size_t payloadLengthAt = kPrefixBytes + headerBytes;
+  const uint64_t payloadBytes = loadU64(file.data() + payloadLengthAt);
+  checkPayloadLength(framing, payloadBytes, headerBytes, file.size());
+  return {std::string_view(reinterpret_cast<const char*>(file.data()) + kPrefixBytes, headerBytes),
+          file.subspan(payloadLengthAt + sizeof(uint64_t), payloadBytes)};
+}
+
+std::vector<uint8_t> readFramedFile(const FileFraming& framing, const std::filesystem::path& path,
+                                    const std::function<void(std::string_view)>& checkHeader) {
+  const StructureFileReader file(path);
+  checkFileSize(framing, file.size());
+  std::array<uint8_t, kPrefixBytes> prefix;
+  file.read(0, prefix);
+  const uint32_t headerBytes = headerLengthFromPrefix(framing, prefix);
+  checkHeaderFits(framing, headerBytes, file.size());
+  std::string header(headerBytes, '\0');
+  file.read(kPrefixBytes, std::span(reinterpret_cast<uint8_t*>(header.data()), header.size()));
+  checkHeader(header);
+  uint64_t payloadBytes;
+  file.read(kPrefixBytes + headerBytes,
+            std::span(reinterpret_cast<uint8_t*>(&payloadBytes), sizeof payloadBytes));
+  checkPayloadLength(framing, payloadBytes, headerBytes, file.size());
+  // Only now is the file's size known to be the framing's: read it whole.
+  std::vector<uint8_t> bytes(file.size());
+  file.read(0, bytes);
+  return bytes;
+}
+
+void putPayloadTag(ByteWriter& out, std::string_view scheme) {
+  if (scheme.empty() || scheme.size() > UINT8_MAX)
+    throw std::invalid_argument(
+        fmt::format("scheme name '{}' cannot tag a payload", shown(scheme)));
+  out.put<uint8_t>(uint8_t(scheme.size()));
+  out.append(scheme.data(), scheme.size());
+}
+
+void checkPayloadTag(ByteReader& in, std::string_view scheme) {
+  const auto length = in.get<uint8_t>("payload tag length");
+  std::string tag(length, '\0');
+  for (char& c : tag) c = char(in.get<uint8_t>("payload tag"));
+  if (tag != scheme)
+    throw FormatError(
+        fmt::format("the payload was written by scheme '{}', not by '{}' as the header says",
+                    shown(tag), scheme));
+}
+
 std::vector<uint8_t> encodeStructureFile(const StructureHeader& header, const Decoder& decoder) {
   if (!validSceneHash(header.sceneHash))
     throw std::invalid_argument(fmt::format("scene hash '{}' is not {} lowercase hex digits",
@@ -280,33 +337,14 @@ std::vector<uint8_t> encodeStructureFile(const StructureHeader& header, const De
   ByteWriter payload;
   putPayloadTag(payload, header.scheme);
   decoder.save(payload);
-  const std::string json = headerJson(header);
-  ByteWriter file;
-  file.append(kMagic, sizeof kMagic);
-  file.put<uint32_t>(kStructureFileVersion);
-  file.put<uint32_t>(uint32_t(json.size()));
-  file.append(json.data(), json.size());
-  file.put<uint64_t>(payload.bytes().size());
-  file.append(payload.bytes().data(), payload.bytes().size());
-  file.put<uint64_t>(XXH3_64bits(file.bytes().data(), file.bytes().size()));
-  return file.release();
+  return frameFile(kStructureFraming, structureHeaderJson(header), payload.bytes());
 }
 
 std::unique_ptr<Decoder> decodeStructureFile(std::span<const uint8_t> file,
                                              StructureHeader* headerOut) {
-  checkFileSize(file.size());
-  const uint32_t headerBytes = headerLengthFromPrefix(file.first(kPrefixBytes));
-  const size_t body = file.size() - sizeof(uint64_t);
-  if (XXH3_64bits(file.data(), body) != loadU64(file.data() + body))
-    throw FormatError("structure file is truncated or corrupted (checksum mismatch)");
-  checkHeaderFits(headerBytes, file.size());
-  ParsedHeader parsed = parseHeader(
-      std::string_view(reinterpret_cast<const char*>(file.data()) + kPrefixBytes, headerBytes));
-  const size_t payloadLengthAt = kPrefixBytes + headerBytes;
-  const uint64_t payloadBytes = loadU64(file.data() + payloadLengthAt);
-  checkPayloadLength(payloadBytes, headerBytes, file.size());
-
-  ByteReader payload(file.subspan(payloadLengthAt + sizeof(uint64_t), payloadBytes));
+  const FramedFile framed = unframeFile(kStructureFraming, file);
+  ParsedHeader parsed = parseHeader(framed.header);
+  ByteReader payload(framed.payload);
   checkPayloadTag(payload, parsed.header.scheme);
   auto decoder = parsed.scheme->load(payload, parsed.header.map, parsed.params);
   payload.expectEnd();
@@ -323,22 +361,9 @@ void saveStructure(const std::filesystem::path& path, const StructureHeader& hea
 
 std::unique_ptr<Decoder> loadStructure(const std::filesystem::path& path, StructureHeader* header) {
   try {
-    const StructureFileReader file(path);
-    checkFileSize(file.size());
-    std::array<uint8_t, kPrefixBytes> prefix;
-    file.read(0, prefix);
-    const uint32_t headerBytes = headerLengthFromPrefix(prefix);
-    checkHeaderFits(headerBytes, file.size());
-    std::string json(headerBytes, '\0');
-    file.read(kPrefixBytes, std::span(reinterpret_cast<uint8_t*>(json.data()), json.size()));
-    parseHeader(json);  // a foreign or crafted header is refused before the payload is read
-    uint64_t payloadBytes;
-    file.read(kPrefixBytes + headerBytes,
-              std::span(reinterpret_cast<uint8_t*>(&payloadBytes), sizeof payloadBytes));
-    checkPayloadLength(payloadBytes, headerBytes, file.size());
-    // Only now is the file's size known to be a structure's: read it whole.
-    std::vector<uint8_t> bytes(file.size());
-    file.read(0, bytes);
+    // A foreign or crafted header is refused before the payload is read.
+    const std::vector<uint8_t> bytes =
+        readFramedFile(kStructureFraming, path, [](std::string_view json) { parseHeader(json); });
     return decodeStructureFile(bytes, header);
   } catch (const FormatError& error) {
     throw FormatError(fmt::format("structure file '{}': {}", path.string(), error.what()));

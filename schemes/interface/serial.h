@@ -2,13 +2,16 @@
 // and the structure file that wraps a scheme's payload (versioned, checksummed).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -91,17 +94,49 @@ struct StructureHeader {
   std::string sceneHash;
 };
 
-// Structure file layout (all little-endian):
-//   8 bytes  magic "SHDWBNCH"
-//   u32      container version (kStructureFileVersion)
-//   u32      header length H, then H bytes of JSON, exactly as the writer dumps it: the keys
-//            depth_resolution, mode, params (an object of strings), resolution, scene_hash, scheme
-//   u64      payload length P, then P bytes: the payload tag (u8 length n, then the n bytes of
-//            the writing scheme's name), then the scheme's payload
+// The framing every shadowbench file shares (structure files, part files), all little-endian:
+//   8 bytes  magic
+//   u32      container version
+//   u32      header length H, then H bytes of JSON
+//   u64      payload length P, then P bytes of payload
 //   u64      XXH3-64 of every byte before it
-// The tag makes a payload self-identifying: formats that two schemes share (mh and mmh) cannot
-// be swapped under each other's header.
+struct FileFraming {
+  std::array<char, 8> magic;
+  uint32_t version;
+  std::string_view noun;  // "structure file", "part file": what error messages call it
+};
+
+std::vector<uint8_t> frameFile(const FileFraming& framing, std::string_view header,
+                               std::span<const uint8_t> payload);
+// The header and payload of a framed file, after magic, version, lengths and checksum are checked.
+// Throws FormatError.
+struct FramedFile {
+  std::string_view header;
+  std::span<const uint8_t> payload;
+};
+FramedFile unframeFile(const FileFraming& framing, std::span<const uint8_t> file);
+// A framed file's bytes from disk: regular files only; `checkHeader` sees the header before the
+// payload is read, so a foreign file is refused without reading it whole. Throws FormatError.
+std::vector<uint8_t> readFramedFile(const FileFraming& framing, const std::filesystem::path& path,
+                                    const std::function<void(std::string_view)>& checkHeader);
+
+// The payload tag (u8 length n, then the n bytes of the writing scheme's name) makes a payload
+// self-identifying: formats that two schemes share (mh and mmh) cannot be swapped under each
+// other's header.
+void putPayloadTag(ByteWriter& out, std::string_view scheme);
+void checkPayloadTag(ByteReader& in, std::string_view scheme);  // throws FormatError
+
+// A structure file is framed with magic "SHDWBNCH" and kStructureFileVersion; its header is JSON
+// exactly as structureHeaderJson dumps it: the keys depth_resolution, mode, params (an object of
+// strings), resolution, scene_hash, scheme; its payload is the payload tag, then the scheme's.
 inline constexpr uint32_t kStructureFileVersion = 2;
+inline constexpr FileFraming kStructureFraming{
+    {'S', 'H', 'D', 'W', 'B', 'N', 'C', 'H'}, kStructureFileVersion, "structure file"};
+
+std::string structureHeaderJson(const StructureHeader& header);
+// Accepts exactly what structureHeaderJson writes for a registered scheme, its parameters
+// resolved against the scheme's row (into `params` when given). Throws FormatError.
+StructureHeader parseStructureHeader(std::string_view json, ParamValues* params = nullptr);
 
 // Throws std::invalid_argument for a header the reader would refuse (an invalid scene hash).
 std::vector<uint8_t> encodeStructureFile(const StructureHeader& header, const Decoder& decoder);

@@ -1,0 +1,198 @@
+#include "harness/part_file.h"
+
+#include <algorithm>
+#include <array>
+
+#include <fmt/format.h>
+
+#include "schemes/interface/atomic_file.h"
+
+namespace sb {
+
+namespace {
+
+using Json = nlohmann::json;
+
+Json costsJson(const PartCosts& costs) {
+  Json phases = Json::array();
+  for (const auto& [name, seconds] : costs.phases) phases.push_back({name, seconds});
+  return {{"depth_seconds", costs.depthSeconds},
+          {"wall_seconds", costs.wallSeconds},
+          {"phases", phases},
+          {"counters", costs.counters},
+          {"peak_rss_bytes", costs.peakRssBytes},
+          {"closed_fallbacks", costs.closedFallbacks},
+          {"depth_shared_with", costs.depthSharedWith}};
+}
+
+std::string headerJson(const PartIdentity& identity, const PartCosts& costs) {
+  return Json{{"structure", structureHeaderJson(identity.structure)},
+              {"light", identity.light},
+              {"tile", identity.tileSize},
+              {"part_size", identity.partSize},
+              {"part", identity.part},
+              {"costs", costsJson(costs)}}
+      .dump();
+}
+
+[[noreturn]] void headerError(std::string_view why) {
+  throw FormatError(fmt::format("part header: {}", why));
+}
+
+const Json& field(const Json& object, const char* key) {
+  if (!object.is_object() || !object.contains(key))
+    headerError(fmt::format("missing key '{}'", key));
+  return object.at(key);
+}
+
+template <class T>
+T unsignedField(const Json& object, const char* key, uint64_t max) {
+  const Json& value = field(object, key);
+  if (!value.is_number_unsigned() || value.get<uint64_t>() > max)
+    headerError(fmt::format("{} is not an unsigned integer up to {}", key, max));
+  return T(value.get<uint64_t>());
+}
+
+double secondsField(const Json& object, const char* key) {
+  const Json& value = field(object, key);
+  if (!value.is_number() || !(value.get<double>() >= 0))
+    headerError(fmt::format("{} is not a non-negative number", key));
+  return value.get<double>();
+}
+
+PartCosts parseCosts(const Json& json) {
+  PartCosts costs;
+  costs.depthSeconds = secondsField(json, "depth_seconds");
+  costs.wallSeconds = secondsField(json, "wall_seconds");
+  const Json& phases = field(json, "phases");
+  if (!phases.is_array()) headerError("phases is not an array");
+  for (const Json& phase : phases) {
+    if (!phase.is_array() || phase.size() != 2 || !phase[0].is_string())
+      headerError("a phase is not a [name, seconds] pair");
+    const Json pair{{"seconds", phase[1]}};
+    costs.phases.emplace_back(phase[0].get<std::string>(), secondsField(pair, "seconds"));
+  }
+  const Json& counters = field(json, "counters");
+  if (!counters.is_object()) headerError("counters is not an object");
+  for (const auto& item : counters.items())
+    costs.counters[item.key()] = unsignedField<uint64_t>(counters, item.key().c_str(), UINT64_MAX);
+  costs.peakRssBytes = unsignedField<uint64_t>(json, "peak_rss_bytes", UINT64_MAX);
+  costs.closedFallbacks = unsignedField<uint64_t>(json, "closed_fallbacks", UINT64_MAX);
+  const Json& shared = field(json, "depth_shared_with");
+  if (!shared.is_array()) headerError("depth_shared_with is not an array");
+  for (const Json& name : shared) {
+    if (!name.is_string()) headerError("depth_shared_with holds a non-string");
+    costs.depthSharedWith.push_back(name.get<std::string>());
+  }
+  return costs;
+}
+
+// Reads what headerJson writes: the structure header exactly as a structure file's, the rest
+// checked for type and range. Returns the identity and the costs.
+std::pair<PartIdentity, PartCosts> parseHeader(std::string_view text) {
+  Json json;
+  try {
+    json = Json::parse(text);
+  } catch (const Json::exception& error) {
+    headerError(fmt::format("not JSON ({})", error.what()));
+  }
+  if (!json.is_object() || json.size() != 6) headerError("not an object of the six part keys");
+  PartIdentity identity;
+  const Json& structure = field(json, "structure");
+  if (!structure.is_string()) headerError("structure is not a string");
+  identity.structure = parseStructureHeader(structure.get<std::string>());
+  identity.light = field(json, "light");
+  identity.tileSize = unsignedField<uint32_t>(json, "tile", UINT32_MAX);
+  identity.partSize = unsignedField<uint32_t>(json, "part_size", UINT32_MAX);
+  identity.part = unsignedField<uint64_t>(json, "part", UINT64_MAX);
+  const uint32_t r = identity.structure.map.resolution;
+  const auto powerOfTwo = [](uint32_t v) { return v != 0 && (v & (v - 1)) == 0; };
+  if (!powerOfTwo(identity.partSize) || identity.partSize >= r)
+    headerError(fmt::format("part_size {} is not a power of two below the resolution {}",
+                            identity.partSize, r));
+  if (!powerOfTwo(identity.tileSize) || identity.tileSize > identity.partSize)
+    headerError(fmt::format("tile {} is not a power of two within the part size {}",
+                            identity.tileSize, identity.partSize));
+  const uint64_t perSide = r / identity.partSize;
+  if (identity.part >= perSide * perSide)
+    headerError(fmt::format("part {} does not exist in a map of {} parts", identity.part,
+                            perSide * perSide));
+  return {std::move(identity), parseCosts(field(json, "costs"))};
+}
+
+// The first field in which `found` is not the part `expected` describes.
+void checkIdentity(const PartIdentity& found, const PartIdentity& expected) {
+  const auto differ = [](const char* what, const auto& has, const auto& wanted) {
+    throw PartMismatch(fmt::format("it belongs to another build: {} {} where this build has {}",
+                                   what, has, wanted));
+  };
+  const StructureHeader &f = found.structure, &e = expected.structure;
+  if (f.sceneHash != e.sceneHash) differ("scene hash", f.sceneHash, e.sceneHash);
+  if (found.light != expected.light) differ("light", found.light.dump(), expected.light.dump());
+  if (f.map.mode != e.map.mode) differ("mode", toString(f.map.mode), toString(e.map.mode));
+  if (f.map.resolution != e.map.resolution)
+    differ("resolution", f.map.resolution, e.map.resolution);
+  if (found.partSize != expected.partSize) differ("part size", found.partSize, expected.partSize);
+  if (found.tileSize != expected.tileSize) differ("tile size", found.tileSize, expected.tileSize);
+  if (f.scheme != e.scheme) differ("scheme", f.scheme, e.scheme);
+  if (f.params != e.params) {
+    const auto text = [](const Params& params) {
+      std::string joined;
+      for (const auto& [name, value] : params)
+        joined += fmt::format("{}{}={}", joined.empty() ? "" : " ", name, value);
+      return joined;
+    };
+    differ("parameters", text(f.params), text(e.params));
+  }
+  if (found.part != expected.part) differ("part", found.part, expected.part);
+}
+
+}  // namespace
+
+std::filesystem::path partFilePath(const std::filesystem::path& folder, uint64_t part) {
+  return folder / fmt::format("part-{:06}.sbpart", part);
+}
+
+std::vector<uint8_t> encodePartFile(const PartIdentity& identity, const PartCosts& costs,
+                                    std::span<const uint8_t> payload) {
+  ByteWriter tagged;
+  putPayloadTag(tagged, identity.structure.scheme);
+  tagged.append(payload.data(), payload.size());
+  return frameFile(kPartFraming, headerJson(identity, costs), tagged.bytes());
+}
+
+PartFile decodePartFile(std::vector<uint8_t> bytes) {
+  PartFile file;
+  file.bytes = std::move(bytes);
+  const FramedFile framed = unframeFile(kPartFraming, file.bytes);
+  std::tie(file.identity, file.costs) = parseHeader(framed.header);
+  ByteReader tag(framed.payload);
+  checkPayloadTag(tag, file.identity.structure.scheme);
+  const size_t tagBytes = framed.payload.size() - tag.remaining();
+  file.payload = framed.payload.subspan(tagBytes);
+  return file;
+}
+
+void savePartFile(const std::filesystem::path& path, const PartIdentity& identity,
+                  const PartCosts& costs, std::span<const uint8_t> payload) {
+  const std::vector<uint8_t> bytes = encodePartFile(identity, costs, payload);
+  writeFileAtomically(path,
+                      std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+PartFile loadPartFile(const std::filesystem::path& path, const PartIdentity& expected) {
+  try {
+    std::vector<uint8_t> bytes = readFramedFile(kPartFraming, path, [&](std::string_view header) {
+      checkIdentity(parseHeader(header).first, expected);
+    });
+    PartFile file = decodePartFile(std::move(bytes));
+    checkIdentity(file.identity, expected);
+    return file;
+  } catch (const FormatError& error) {
+    throw FormatError(fmt::format("part file '{}': {}", path.string(), error.what()));
+  } catch (const PartMismatch& error) {
+    throw PartMismatch(fmt::format("part file '{}': {}", path.string(), error.what()));
+  }
+}
+
+}  // namespace sb
