@@ -7,7 +7,8 @@
 #   tests/workflow_test.sh [--profile DIR] path/to/shadowbench
 # Locally with --cores 2 by default; --profile runs it through that Snakemake profile instead
 # (scripts/slurm/one-node.sh passes scripts/workflow/profiles/slurm). SHADOWBENCH_WORKFLOW_DIR
-# keeps the run's folder (default: a temporary one, removed on exit).
+# keeps the run's folder (default: a temporary one, removed on exit); SHADOWBENCH_WORKFLOW_CONFIG
+# runs another config (default scripts/workflow/config/ci.yaml).
 set -euo pipefail
 fail() { echo "FAIL: workflow_test: $*" >&2; exit 1; }
 
@@ -22,7 +23,7 @@ sb=$(realpath "$1")
 [ -x "$sb" ] || fail "'$1' is not an executable shadowbench"
 repository=$(realpath "$(dirname "$0")/..")
 snakefile=$repository/scripts/workflow/Snakefile
-config=$repository/scripts/workflow/config/ci.yaml
+config=$(realpath "${SHADOWBENCH_WORKFLOW_CONFIG:-$repository/scripts/workflow/config/ci.yaml}")
 command -v snakemake > /dev/null ||
   fail "snakemake is not installed: apt-get install -y snakemake (scripts/install-deps.sh)"
 
@@ -106,18 +107,10 @@ while IFS=$'\t' read -r -a cell; do
   /usr/bin/python3 - "$results/records" "$scheme" "$resolution" "$part_size" <<'EOF' || fail "$cell_set/$scheme: no record of the merge names part size $part_size (records: $results/records)"
 import json, pathlib, sys
 folder, scheme, resolution, part_size = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4])
-def part_sizes(value):
-    if isinstance(value, dict):
-        for key, inner in value.items():
-            if key == "part_size":
-                yield inner
-            yield from part_sizes(inner)
-found = False
-for path in pathlib.Path(folder).glob("*.json"):
-    record = json.loads(path.read_text())
-    if record.get("complete") and record["scheme"]["name"] == scheme and record["resolution"] == resolution:
-        found = found or part_size in part_sizes(record)
-sys.exit(0 if found else 1)
+records = [json.loads(path.read_text()) for path in pathlib.Path(folder).glob("*.json")]
+sys.exit(0 if any(record.get("complete") and record["scheme"]["name"] == scheme and
+                  record["resolution"] == resolution and record.get("part_size") == part_size
+                  for record in records) else 1)
 EOF
   echo "workflow_test: $cell_set/$scheme: merged answers $queries queries as the whole build"
   cells=$((cells + 1))
