@@ -112,7 +112,8 @@ sys.exit(0 if any(record.get("complete") and record["scheme"]["name"] == scheme 
                   record["resolution"] == resolution and record.get("part_size") == part_size
                   for record in records) else 1)
 EOF
-  echo "workflow_test: $cell_set/$scheme: merged answers $queries queries as the whole build"
+  echo "workflow_test: $cell_set/$scheme: merged answers $queries queries as the whole build" \
+    "(files: merged $(stat -c %s "$merged") bytes, whole $(stat -c %s "$whole"))"
   cells=$((cells + 1))
 done < <(/usr/bin/python3 "$repository/scripts/workflow/cell_sets.py" "$config" whole-builds)
 [ "$cells" -gt 0 ] || fail "$config names no scheme cell"
