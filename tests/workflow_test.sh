@@ -119,7 +119,7 @@ done < <(/usr/bin/python3 "$repository/scripts/workflow/cell_sets.py" "$config" 
 [ "$cells" -gt 0 ] || fail "$config names no scheme cell"
 
 # A config that cannot describe a sweep is refused before any job, naming the key.
-sed 's/part_size: 1K/part_size: 3K/' "$config" > "$work/bad.yaml"
+sed 's/part_size: .*/part_size: 3K/' "$config" > "$work/bad.yaml"
 if snakemake -s "$snakefile" --configfile "$work/bad.yaml" --directory "$work" \
      --config shadowbench="$sb" results="$work/bad" --cores 1 --dry-run > "$work/bad.log" 2>&1; then
   fail "a part size of 3K was accepted"

@@ -149,7 +149,8 @@ TOP_LEVEL = {"shadowbench", "results", "cell_sets", "merge", "resources", "paper
 # What a config may leave out: the CI and example configs show each key.
 MERGE_DEFAULTS = {"verify": True, "bench": True, "sampled_queries": None}
 RESOURCE_DEFAULTS = {"part_threads": 2, "merge_threads": 1, "memory_margin": 1.5,
-                     "base_mem_mb": 1024, "part_runtime_min": 120, "merge_runtime_min": 120}
+                     "base_mem_mb": 1024, "max_mem_mb": None, "part_runtime_min": 120,
+                     "merge_runtime_min": 120}
 
 
 def _section(config, key, defaults):
@@ -165,6 +166,8 @@ def _section(config, key, defaults):
         elif value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
                                     or value <= 0):
             raise ConfigError(f"{key}.{name}: '{value}' is not a positive number")
+        elif value is not None and name != "memory_margin" and not isinstance(value, int):
+            raise ConfigError(f"{key}.{name}: '{value}' is not a whole number")
     return {**defaults, **given}
 
 
