@@ -7,8 +7,8 @@
 #   tests/workflow_test.sh [--profile DIR] path/to/shadowbench
 # Locally with --cores 2 by default; --profile runs it through that Snakemake profile instead
 # (scripts/slurm/one-node.sh passes scripts/workflow/profiles/slurm). SHADOWBENCH_WORKFLOW_DIR
-# keeps the run's folder (default: a temporary one, removed on exit); SHADOWBENCH_WORKFLOW_CONFIG
-# runs another config (default scripts/workflow/config/ci.yaml).
+# keeps the run's folder (default: a temporary one, removed unless the test fails);
+# SHADOWBENCH_WORKFLOW_CONFIG runs another config (default scripts/workflow/config/ci.yaml).
 set -euo pipefail
 fail() { echo "FAIL: workflow_test: $*" >&2; exit 1; }
 
@@ -32,7 +32,8 @@ if [ -n "${SHADOWBENCH_WORKFLOW_DIR:-}" ]; then
   mkdir -p "$work"
 else
   work=$(mktemp -d)
-  trap 'rm -rf "$work"' EXIT
+  # Kept when the test fails: the logs it names are in it.
+  trap 'if [ $? -eq 0 ]; then rm -rf "$work"; else echo "workflow_test: kept $work" >&2; fi' EXIT
 fi
 work=$(realpath "$work")
 results=$work/results
