@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Opt-in test: a one-node Slurm cluster on this machine runs the CI workflow through sbatch.
 #   scripts/slurm/one-node.sh [path/to/shadowbench]      (as root, or it re-runs itself with sudo)
-# Installs what is missing (slurm-wlm: slurmctld, slurmd, the clients and munge; snakemake),
+# Installs what is missing (slurm-wlm: slurmctld, slurmd and the clients; munge; snakemake),
 # writes a minimal slurm.conf for this host into its own folder (SLURM_CONF; /etc/slurm is left
 # alone), starts munged (unless one answers already), slurmctld and slurmd in the background
 # without systemd or cgroups, waits for the node to be idle, and runs tests/workflow_test.sh
@@ -20,7 +20,7 @@ sb=$(realpath "${1:-$repository/build/harness/shadowbench}")
 [ -x "$sb" ] || fail "'$sb' is not an executable shadowbench: cmake --build build --target shadowbench"
 
 missing=()
-for package in slurmctld slurmd slurm-client munge snakemake; do
+for package in slurm-wlm munge snakemake; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
 done
 if [ ${#missing[@]} -gt 0 ]; then

@@ -52,13 +52,15 @@ class CellSet:
     def __init__(self, name, entry):
         where = f"cell_sets.{name}"
         if not re.fullmatch(SET_NAME, str(name)):
-            raise ConfigError(f"cell_sets: the name '{name}' must be letters, digits, '_', '.', '-'")
+            raise ConfigError(f"cell_sets: the name '{name}' must be letters, digits, '_', '.', "
+                              "'-'")
         if not isinstance(entry, dict):
             raise ConfigError(f"{where}: expected a mapping of scene, mode, resolution, …")
         known = {"scene", "light", "mode", "resolution", "tile", "part_size", "schemes", "params"}
         unknown = sorted(set(entry) - known)
         if unknown:
-            raise ConfigError(f"{where}: unknown key '{unknown[0]}' (known: {', '.join(sorted(known))})")
+            raise ConfigError(f"{where}: unknown key '{unknown[0]}' "
+                              f"(known: {', '.join(sorted(known))})")
         for key in ("scene", "mode", "resolution", "part_size", "schemes"):
             if key not in entry:
                 raise ConfigError(f"{where}: '{key}' is missing")
@@ -74,7 +76,7 @@ class CellSet:
         self.part_size = texels(entry["part_size"], f"{where}.part_size")
         if self.part_size >= self.resolution:
             raise ConfigError(f"{where}.part_size: {spelled(self.part_size)} must be below the "
-                              f"resolution {spelled(self.resolution)} (a part is a part of the map)")
+                              f"resolution {spelled(self.resolution)}")
         self.tile = entry.get("tile")
         if self.tile is not None:
             self.tile = texels(self.tile, f"{where}.tile")
