@@ -172,22 +172,29 @@ PartsTarget targetOf(const ResolvedCell& cell, const CellSpec& spec, const Scene
 }
 
 // Refuses, before the depth source spends time on the scene, any cell whose build would not fit.
-// Whole builds from one pass hold every encoder at once; parts hold one part of each.
+// Whole builds from one pass hold every encoder at once; builds in parts hold one part encoder of
+// every scheme at once, then merge one scheme at a time.
 void checkCellsFit(std::span<const ResolvedCell> cells, const CellSpec& spec) {
-  const BuildShape shape = spec.shape();
+  BuildShape shape = spec.shape();
+  if (shape.partSize) shape.step = BuildShape::Step::EncodePart;
   uint64_t together = 0;
   for (const ResolvedCell& cell : cells) {
     const MapInfo map = mapFor(*cell.scheme, spec.mode, spec.resolution);
-    if (shape.partSize) checkPartShape(*cell.scheme, map, shape);
+    if (shape.partSize) {
+      checkPartShape(*cell.scheme, map, shape);
+      checkBuildFits(*cell.scheme, map, cell.params,
+                     {shape.tileSize, shape.partSize, BuildShape::Step::Merge});
+    }
     together += checkBuildFits(*cell.scheme, map, cell.params, shape);
   }
   const uint64_t available = availableMemoryBytes();
   if (cells.size() > 1 && together > available)
     throw std::runtime_error(fmt::format(
-        "{} together at {}² need at least {:.2f} GiB to build from one depth pass but only {:.2f} "
-        "GiB is available; build them in parts (--part-size) or one at a time",
+        "{} together at {}² need at least {:.2f} GiB to {} from one depth pass but only {:.2f} "
+        "GiB is available; build them {}one at a time",
         schemeNames(cells), spec.resolution, together / double(1ull << 30),
-        available / double(1ull << 30)));
+        shape.partSize ? "encode a part of each" : "build", available / double(1ull << 30),
+        shape.partSize ? "in smaller parts or " : "in parts (--part-size) or "));
 }
 
 }  // namespace

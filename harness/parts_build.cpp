@@ -59,7 +59,8 @@ PartsEncoded encodeParts(const DepthSource& source, std::span<const PartsTarget>
   for (const PartsTarget& target : targets) {
     maps.push_back(mapFor(*target.build.scheme, source.mode(), source.resolution()));
     checkPartShape(*target.build.scheme, maps.back(), shape);
-    checkBuildFits(*target.build.scheme, maps.back(), target.build.params, shape);
+    checkBuildFits(*target.build.scheme, maps.back(), target.build.params,
+                   {shape.tileSize, shape.partSize, BuildShape::Step::EncodePart});
     std::filesystem::create_directories(target.folder);
   }
   const uint64_t count = MapPart::countFor({source.resolution(), 0, source.mode()}, shape.partSize);
@@ -137,7 +138,12 @@ BuildOutcome mergeParts(const PartsTarget& target, DepthMode mode, uint32_t reso
   outcome.params = target.build.params;
   outcome.shape = shape;
   checkPartShape(scheme, outcome.map, shape);
-  outcome.estimatedBytes = checkBuildFits(scheme, outcome.map, outcome.params, shape);
+  checkBuildFits(scheme, outcome.map, outcome.params,
+                 {shape.tileSize, shape.partSize, BuildShape::Step::Merge});
+  // What the record sets beside the peak of the parts and the merge: the larger declaration.
+  outcome.estimatedBytes = scheme.buildBytes ? scheme.buildBytes(outcome.map, outcome.params,
+                                                                 {shape.tileSize, shape.partSize})
+                                             : 0;
 
   const uint64_t count = MapPart::countFor(outcome.map, shape.partSize);
   uint64_t missing = 0, firstMissing = 0;

@@ -182,8 +182,14 @@ refused "--output saves one structure" "$sb" build --scene "$missing" --scheme s
 "$sb" estimate --scheme sm32,sm-zstd -m closed -r 1K | /usr/bin/python3 -c '
 import json, sys
 e = json.load(sys.stdin)
-assert e["build_bytes"] == sum(e["schemes"].values()) and e["schemes"]["sm32"] == 4 << 20, e
+assert e["build_bytes"] == sum(s["build_bytes"] for s in e["schemes"].values()), e
+assert e["schemes"]["sm32"] == {"build_bytes": 4 << 20} and "part_bytes" not in e, e
 ' || fail "estimate"
+"$sb" estimate --scheme sm32 -m closed -r 1K --part-size 256 | /usr/bin/python3 -c '
+import json, sys
+e = json.load(sys.stdin)
+assert (e["part_bytes"], e["merge_bytes"], e["build_bytes"]) == (256 << 10, 4 << 20, 4 << 20), e
+' || fail "estimate in parts"
 
 # The registry as JSON for scripts, values as strings as records hold them.
 "$sb" schemes --json > "$work/schemes.json"

@@ -88,3 +88,11 @@ TEST_CASE("a build in parts answers every texel as the whole build", "[parts]") 
     }
   }
 }
+
+// Issue 12: every compressed scheme reaches 256K² through builds in parts.
+TEST_CASE("every compressed scheme builds in parts", "[parts]") {
+  for (const char* name : {"cpvs", "cpvs-fast", "mh", "mmh", "dag-mh", "compressed-sm"}) {
+    INFO(name);
+    CHECK(findScheme(name).buildsInParts());
+  }
+}

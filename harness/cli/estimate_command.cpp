@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <memory>
 
 #include <fmt/format.h>
@@ -18,22 +19,35 @@ struct EstimateOptions {
   PartOptions parts;
 };
 
-// The declared build memory a scheduler reserves for a job: one part of every scheme of a part
-// job at once, or one scheme's merge (the larger of the two is what buildBytes declares).
+// The declared build memory a scheduler reserves for a job. A whole build from one depth pass
+// holds every scheme's build at once ("build_bytes"); a part job holds one part encoder of every
+// scheme ("part_bytes", the sum); a merge job one scheme's merge ("merge_bytes", the largest).
 void printEstimate(const EstimateOptions& o) {
   const std::vector<CellSpec> cells = cellsOf(o.map, o.schemes, o.parts);
   nlohmann::json perScheme = nlohmann::json::object();
-  uint64_t together = 0;
+  uint64_t build = 0, part = 0, merge = 0;
   for (const CellSpec& cell : cells) {
     const SchemeInfo& scheme = findScheme(cell.scheme);
-    const BuildShape shape = cell.shape();
     const MapInfo map = mapFor(scheme, cell.mode, cell.resolution);
-    const uint64_t bytes =
-        scheme.buildBytes ? scheme.buildBytes(map, scheme.resolve(cell.params), shape) : 0;
-    perScheme[cell.scheme] = bytes;
-    together += bytes;
+    const ParamValues params = scheme.resolve(cell.params);
+    const auto bytes = [&](BuildShape::Step step) -> uint64_t {
+      BuildShape shape = cell.shape();
+      shape.step = step;
+      return scheme.buildBytes ? scheme.buildBytes(map, params, shape) : 0;
+    };
+    nlohmann::json own = {{"build_bytes", bytes(BuildShape::Step::Whole)}};
+    build += own["build_bytes"].get<uint64_t>();
+    if (cell.partSize) {
+      own["part_bytes"] = bytes(BuildShape::Step::EncodePart);
+      own["merge_bytes"] = bytes(BuildShape::Step::Merge);
+      part += own["part_bytes"].get<uint64_t>();
+      merge = std::max(merge, own["merge_bytes"].get<uint64_t>());
+    }
+    perScheme[cell.scheme] = own;
   }
-  fmt::print("{}\n", nlohmann::json{{"build_bytes", together}, {"schemes", perScheme}}.dump());
+  nlohmann::json estimate = {{"build_bytes", build}, {"schemes", perScheme}};
+  if (cells.front().partSize) estimate["part_bytes"] = part, estimate["merge_bytes"] = merge;
+  fmt::print("{}\n", estimate.dump());
   flushStandardOutput();
 }
 
@@ -43,8 +57,9 @@ void addEstimateCommand(CLI::App& app) {
   auto o = std::make_shared<EstimateOptions>();
   CLI::App* sub = app.add_subcommand(
       "estimate",
-      "print the declared build memory as JSON {\"build_bytes\": N, \"schemes\": {…}}: every "
-      "scheme's at once, as a job building them from one depth pass needs");
+      "print the declared build memory as JSON: build_bytes (every scheme's whole build at once, "
+      "as one depth pass needs), with --part-size part_bytes (one part of every scheme) and "
+      "merge_bytes (the largest merge), and each scheme's own under \"schemes\"");
   o->map.addTo(sub);
   o->schemes.addTo(sub, "mh");
   o->parts.addTo(sub, false);

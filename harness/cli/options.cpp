@@ -128,7 +128,8 @@ std::vector<CellSpec> cellsOf(const MapOptions& map, const SchemeOptions& scheme
   const uint32_t resolution = parseResolution(map.resolution);
   checkTileSize(map.tile, resolution);
   const uint32_t partSize = parts.partSizeValue();
-  const uint32_t tile = map.tile ? map.tile : defaultTileSize(resolution);
+  // An explicit tile must fit in a part; the default tile shrinks to the part (CellSpec).
+  const uint32_t tile = std::max(map.tile, 8u);
   if (partSize && (partSize >= resolution || partSize < tile))
     throw std::invalid_argument(
         fmt::format("part size {} must lie from the tile size {} to below the resolution {}",

@@ -571,8 +571,8 @@ SchemeInfo compressedSm() {
     if (!shape.inParts(map)) return fitting(r, r, shape.tileSize);
     const uint64_t p = shape.partSize, texelBytes = 2 * sizeof(float);
     if (fitsOnItsOwn(shape.partSize, segmentSpanOf(params)))
-      return std::max(fitting(p, p, shape.tileSize), fitting(r, r, 0) + fitting(p, p, 0));
-    return std::max(2 * p * p * texelBytes, fitting(r, r, p) + p * p * texelBytes);
+      return shape.partsBytes(fitting(p, p, shape.tileSize), fitting(r, r, 0) + fitting(p, p, 0));
+    return shape.partsBytes(2 * p * p * texelBytes, fitting(r, r, p) + p * p * texelBytes);
   };
   info.makeEncoder = [](const MapInfo& map, const ParamValues& params,
                         const BuildShape&) -> std::unique_ptr<Encoder> {

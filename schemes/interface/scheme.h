@@ -6,6 +6,7 @@
 // the harness measures.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -111,9 +112,21 @@ class Encoder {
 // How the harness shapes a build: what a scheme's working memory depends on beside the map (the
 // tile size its encoders receive, and the part size of a build in parts).
 struct BuildShape {
+  // Which step of a build in parts the memory is declared for: a part encoder, the merge, or
+  // the build as a whole (the larger of the two).
+  enum class Step { Whole, EncodePart, Merge };
+
   uint32_t tileSize = 512;
   uint32_t partSize = 0;  // 0: a whole build; else a power of two in [tileSize, R) (parts.h)
+  Step step = Step::Whole;
+
   bool inParts(const MapInfo& map) const { return partSize != 0 && partSize < map.resolution; }
+  // A build in parts' declared bytes for this step, from those of one part encoder and the merge.
+  uint64_t partsBytes(uint64_t encodePart, uint64_t merge) const {
+    return step == Step::EncodePart ? encodePart
+           : step == Step::Merge    ? merge
+                                    : std::max(encodePart, merge);
+  }
 };
 
 struct SchemeInfo {
@@ -123,7 +136,7 @@ struct SchemeInfo {
   std::vector<ParamSpec> params;
   // Bytes the build needs at least, working memory and the structure it grows together: for
   // refusing, before starting, a resolution that cannot fit. For a build in parts
-  // (shape.inParts), the larger of one part's encoding and the merge.
+  // (shape.inParts), those of shape.step: BuildShape::partsBytes(part encoder, merge).
   std::function<uint64_t(const MapInfo&, const ParamValues&, const BuildShape&)> buildBytes;
   std::function<std::unique_ptr<Encoder>(const MapInfo&, const ParamValues&, const BuildShape&)>
       makeEncoder;

@@ -246,7 +246,7 @@ void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
     const uint64_t encoder =
         MhBuilder::workingBytes(std::min(shape.partSize, shape.tileSize)) + partBytes;
     const uint64_t merge = nodesAtFloor(map.resolution) * (sizeof(MhNode) + perNode) + partBytes;
-    return std::max(encoder, merge);
+    return shape.partsBytes(encoder, merge);
   };
   const auto encodeFor = encoding.encodeFor;
   info.makeEncoder = [encodeFor](const MapInfo& map, const ParamValues& params,

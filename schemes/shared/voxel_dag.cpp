@@ -72,7 +72,7 @@ SchemeInfo voxelDagScheme(std::string name, std::string paper) {
     // measured share (city closed 8K² in parts of 2K²: 13% of the DAG, not 25%).
     const uint64_t part = dag * shape.partSize / map.resolution;
     return kBuildSlackBytes +
-           std::max(tileArrays + kDagBuildFactor * part, kDagBuildFactor * dag + part);
+           shape.partsBytes(tileArrays + kDagBuildFactor * part, kDagBuildFactor * dag + part);
   };
   info.load = [](ByteReader& in, const MapInfo& map, const ParamValues& params) {
     const VoxelDagConfig config = voxelDagConfig(map, params);

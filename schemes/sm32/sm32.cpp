@@ -109,9 +109,11 @@ SchemeInfo sm32() {
   info.name = "sm32";
   info.paper = "Williams 1978, plain float32 shadow map (baseline)";
   info.kind = SchemeKind::Depth;
-  // The merge, like the whole build, holds the whole map (a part holds less).
-  info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape&) {
-    return map.texelCount() * sizeof(float);
+  // The merge, like the whole build, holds the whole map; a part encoder holds its part.
+  info.buildBytes = [](const MapInfo& map, const ParamValues&, const BuildShape& shape) {
+    const uint64_t whole = map.texelCount() * sizeof(float);
+    if (!shape.inParts(map)) return whole;
+    return shape.partsBytes(uint64_t(shape.partSize) * shape.partSize * sizeof(float), whole);
   };
   info.makeEncoder = [](const MapInfo& map, const ParamValues&,
                         const BuildShape&) -> std::unique_ptr<Encoder> {
