@@ -26,22 +26,6 @@ sb::ParamValues params;
 sb::MapInfo map;
 std::vector<std::vector<uint8_t>> validPayloads;  // of parts 0 … 3
 
-std::vector<std::vector<uint8_t>> encodeParts(const sb::testing::SyntheticMap& depths) {
-  sb::testing::NullBuildContext context;
-  std::vector<std::vector<uint8_t>> payloads;
-  for (uint64_t index = 0; index < sb::MapPart::countFor(map, kPartSize); ++index) {
-    auto encoder = scheme->makePartEncoder(map, sb::MapPart::of(index, kPartSize), params,
-                                           {kPartSize, kPartSize});
-    depths.stream(
-        kPartSize, [&](const sb::DualDepthTile& tile) { encoder->consume(tile, context); }, index,
-        index + 1);
-    sb::ByteWriter out;
-    encoder->finish(out, context);
-    payloads.push_back(out.release());
-  }
-  return payloads;
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
@@ -59,7 +43,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   params = scheme->resolve({});
   const auto depths = sb::testing::SyntheticMap::random(kResolution, sb::DepthMode::Closed, 0x5eed);
   map = depths.info(scheme->kind);
-  validPayloads = encodeParts(depths);
+  validPayloads = depths.partPayloads(*scheme, {}, kPartSize, kPartSize);
   if (const char* seed = std::getenv("SHADOWBENCH_FUZZ_WRITE_SEED")) {
     std::ofstream(seed, std::ios::binary)
         .write(reinterpret_cast<const char*>(validPayloads[0].data()),

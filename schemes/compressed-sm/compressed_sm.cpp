@@ -133,6 +133,15 @@ size_t fitScanline(std::span<const float> lo, std::span<const float> hi, Segment
 
 namespace {
 
+// The scanline layout of a structure and of a part payload alike: the row index, then the
+// segments' arrays.
+void putScanlines(ByteWriter& out, std::span<const uint32_t> rowIndex, const Segments& segments) {
+  out.putArray<uint32_t>(rowIndex);
+  out.putArray<uint32_t>(segments.firstColumns);
+  out.putArray<float>(segments.starts);
+  out.putArray<float>(segments.slopes);
+}
+
 class CompressedSmDecoder final : public DepthDecoder<CompressedSmDecoder> {
  public:
   CompressedSmDecoder(uint32_t resolution, std::vector<uint32_t> rowIndex, Segments segments)
@@ -153,12 +162,7 @@ class CompressedSmDecoder final : public DepthDecoder<CompressedSmDecoder> {
     return {{"segments", segments_.count() * (sizeof(uint32_t) + 2 * sizeof(float))},
             {"row index", rowIndex_.size() * sizeof(uint32_t)}};
   }
-  void save(ByteWriter& out) const override {
-    out.putArray<uint32_t>(rowIndex_);
-    out.putArray<uint32_t>(segments_.firstColumns);
-    out.putArray<float>(segments_.starts);
-    out.putArray<float>(segments_.slopes);
-  }
+  void save(ByteWriter& out) const override { putScanlines(out, rowIndex_, segments_); }
 
  private:
   uint32_t resolution_;
@@ -400,10 +404,7 @@ class CompressedSmPartEncoder final : public PartEncoder {
       all.starts.insert(all.starts.end(), row.starts.begin(), row.starts.end());
       all.slopes.insert(all.slopes.end(), row.slopes.begin(), row.slopes.end());
     }
-    out.putArray<uint32_t>(rowIndex);
-    out.putArray<uint32_t>(all.firstColumns);
-    out.putArray<float>(all.starts);
-    out.putArray<float>(all.slopes);
+    putScanlines(out, rowIndex, all);
   }
 
  private:

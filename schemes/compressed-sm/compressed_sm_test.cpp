@@ -60,22 +60,7 @@ std::vector<uint8_t> saved(const Decoder& decoder) {
 // The payloads of every part of `map` in parts of `partSize`, in part order.
 std::vector<std::vector<uint8_t>> partPayloads(const SyntheticMap& map, const Params& params,
                                                uint32_t tileSize, uint32_t partSize) {
-  const SchemeInfo& scheme = findScheme("compressed-sm");
-  testing::NullBuildContext context;
-  const MapInfo info = map.info(scheme.kind);
-  const uint64_t tilesPerPart = uint64_t(partSize / tileSize) * (partSize / tileSize);
-  std::vector<std::vector<uint8_t>> payloads;
-  for (uint64_t index = 0; index < MapPart::countFor(info, partSize); ++index) {
-    auto encoder = scheme.makePartEncoder(info, MapPart::of(index, partSize),
-                                          scheme.resolve(params), BuildShape{tileSize, partSize});
-    map.stream(
-        tileSize, [&](const DualDepthTile& tile) { encoder->consume(tile, context); },
-        index * tilesPerPart, (index + 1) * tilesPerPart);
-    ByteWriter payload;
-    encoder->finish(payload, context);
-    payloads.push_back(payload.release());
-  }
-  return payloads;
+  return map.partPayloads(findScheme("compressed-sm"), params, tileSize, partSize);
 }
 
 // Merges part payloads of parts of `partSize` given one after another in `bytes`.

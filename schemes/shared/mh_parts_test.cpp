@@ -27,22 +27,7 @@ constexpr const char* kMhFamily[] = {"mh", "mmh", "dag-mh"};
 // The payloads of every part of `map`, in part order.
 std::vector<std::vector<uint8_t>> partPayloads(const SchemeInfo& scheme, const SyntheticMap& map,
                                                uint32_t tileSize, uint32_t partSize) {
-  NullBuildContext context;
-  const MapInfo info = map.info(scheme.kind);
-  const BuildShape shape{tileSize, partSize};
-  const uint64_t tilesPerPart = uint64_t(partSize / tileSize) * (partSize / tileSize);
-  std::vector<std::vector<uint8_t>> payloads;
-  for (uint64_t index = 0; index < MapPart::countFor(info, partSize); ++index) {
-    auto encoder =
-        scheme.makePartEncoder(info, MapPart::of(index, partSize), scheme.resolve({}), shape);
-    map.stream(
-        tileSize, [&](const DualDepthTile& tile) { encoder->consume(tile, context); },
-        index * tilesPerPart, (index + 1) * tilesPerPart);
-    ByteWriter out;
-    encoder->finish(out, context);
-    payloads.push_back(out.release());
-  }
-  return payloads;
+  return map.partPayloads(scheme, {}, tileSize, partSize);
 }
 
 std::unique_ptr<PartMerger> mergerFor(const SchemeInfo& scheme, const SyntheticMap& map,

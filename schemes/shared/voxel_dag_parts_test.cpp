@@ -87,7 +87,7 @@ TEST_CASE("CPVS part payloads match their golden files", "[voxel][parts][format]
     const SchemeInfo& scheme = findScheme(name);
     const std::string path = fmt::format("tests/golden/{}.part", name);
     INFO("golden file " << path << " (create it with SHADOWBENCH_UPDATE_GOLDEN=1)");
-    const auto payloads = testing::partPayloads(map, scheme, {}, kTileSize, kPartSize);
+    const auto payloads = map.partPayloads(scheme, {}, kTileSize, kPartSize);
     if (std::getenv("SHADOWBENCH_UPDATE_GOLDEN")) {
       const std::vector<uint8_t> bytes = goldenBytes(payloads);
       std::ofstream(path, std::ios::binary)
@@ -112,7 +112,7 @@ TEST_CASE("truncated and corrupted part payloads are refused or merge safely",
     const SchemeInfo& scheme = findScheme(name);
     const MapInfo info = map.info(scheme.kind);
     const ParamValues params = scheme.resolve({});
-    const auto payloads = testing::partPayloads(map, scheme, {}, kTileSize, kPartSize);
+    const auto payloads = map.partPayloads(scheme, {}, kTileSize, kPartSize);
     const std::vector<float> expected = everyVoxel(*map.build(scheme, {}, kTileSize));
     for (size_t part = 0; part < payloads.size(); ++part) {
       INFO(name << " part " << part);
@@ -151,7 +151,7 @@ TEST_CASE("crafted part payloads are refused, naming the part and the problem",
   const SyntheticMap map = goldenMap();
   testing::NullBuildContext context;
   const SchemeInfo& scheme = findScheme("cpvs");
-  const auto payloads = testing::partPayloads(map, scheme, {}, kTileSize, kPartSize);
+  const auto payloads = map.partPayloads(scheme, {}, kTileSize, kPartSize);
   // The part with the most nodes, so that every kind of entry is there to break.
   size_t part = 0;
   for (size_t p = 1; p < payloads.size(); ++p)
@@ -213,7 +213,7 @@ TEST_CASE("parts out of order or of another size are a harness error", "[voxel][
   const SyntheticMap map = goldenMap();
   testing::NullBuildContext context;
   const SchemeInfo& scheme = findScheme("cpvs-fast");
-  const auto payloads = testing::partPayloads(map, scheme, {}, kTileSize, kPartSize);
+  const auto payloads = map.partPayloads(scheme, {}, kTileSize, kPartSize);
   auto merger =
       scheme.makePartMerger(map.info(scheme.kind), scheme.resolve({}), {kTileSize, kPartSize});
   ByteReader second(payloads[1]);

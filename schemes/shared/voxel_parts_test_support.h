@@ -28,28 +28,6 @@ inline std::unique_ptr<Decoder> buildWhole(const SyntheticMap& map, const Scheme
   return encoder->finish(context);
 }
 
-inline std::vector<std::vector<uint8_t>> partPayloads(const SyntheticMap& map,
-                                                      const SchemeInfo& scheme,
-                                                      const Params& params, uint32_t tileSize,
-                                                      uint32_t partSize) {
-  NullBuildContext context;
-  const MapInfo info = map.info(scheme.kind);
-  const ParamValues values = scheme.resolve(params);
-  const uint64_t tilesPerPart = uint64_t(partSize / tileSize) * (partSize / tileSize);
-  std::vector<std::vector<uint8_t>> payloads;
-  for (uint64_t index = 0; index < MapPart::countFor(info, partSize); ++index) {
-    auto encoder =
-        scheme.makePartEncoder(info, MapPart::of(index, partSize), values, {tileSize, partSize});
-    map.stream(
-        tileSize, [&](const DualDepthTile& tile) { encoder->consume(tile, context); },
-        index * tilesPerPart, (index + 1) * tilesPerPart);
-    ByteWriter payload;
-    encoder->finish(payload, context);
-    payloads.push_back(payload.release());
-  }
-  return payloads;
-}
-
 // Adds parts [0, end) to `merger`, each payload read to its end.
 inline void addParts(PartMerger& merger, const std::vector<std::vector<uint8_t>>& payloads,
                      uint32_t partSize, BuildContext& context, size_t first = 0,

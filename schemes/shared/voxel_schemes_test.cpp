@@ -219,7 +219,7 @@ TEST_CASE("a CPVS merged from parts is the whole build's DAG", "[voxel][parts]")
               testing::CountingContext mergedCounts;
               const auto merged = testing::mergeParts(
                   map, scheme, params, shape.tile, partSize,
-                  testing::partPayloads(map, scheme, params, shape.tile, partSize), mergedCounts);
+                  map.partPayloads(scheme, params, shape.tile, partSize), mergedCounts);
               CHECK(mergedCounts.counts.at("dag nodes") == wholeCounts.counts.at("dag nodes"));
               CHECK(mergedCounts.counts.at("dag leafmasks") ==
                     wholeCounts.counts.at("dag leafmasks"));

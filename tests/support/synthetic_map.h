@@ -96,27 +96,39 @@ struct SyntheticMap {
     return encoder->finish(context);
   }
 
-  // The build in parts of side `partSize` (parts.h): each part encoded, its payload written and
-  // read back as a part file would be, then the payloads merged in part order.
-  std::unique_ptr<Decoder> buildInParts(const SchemeInfo& scheme, const Params& params,
-                                        uint32_t tileSize, uint32_t partSize) const {
+  // The payload of every part in parts of side `partSize` (parts.h), in part order, each
+  // encoded from its own run of tiles as the harness streams them.
+  std::vector<std::vector<uint8_t>> partPayloads(const SchemeInfo& scheme, const Params& params,
+                                                 uint32_t tileSize, uint32_t partSize) const {
     NullBuildContext context;
     const MapInfo map = info(scheme.kind);
     const ParamValues values = scheme.resolve(params);
-    const BuildShape shape{tileSize, partSize};
     const uint64_t tilesPerPart = uint64_t(partSize / tileSize) * (partSize / tileSize);
-    auto merger = scheme.makePartMerger(map, values, shape);
+    std::vector<std::vector<uint8_t>> payloads;
     for (uint64_t index = 0; index < MapPart::countFor(map, partSize); ++index) {
-      const MapPart part = MapPart::of(index, partSize);
-      auto encoder = scheme.makePartEncoder(map, part, values, shape);
+      auto encoder = scheme.makePartEncoder(map, MapPart::of(index, partSize), values,
+                                            BuildShape{tileSize, partSize});
       stream(
           tileSize, [&](const DualDepthTile& tile) { encoder->consume(tile, context); },
           index * tilesPerPart, (index + 1) * tilesPerPart);
       ByteWriter payload;
       encoder->finish(payload, context);
-      encoder.reset();
-      ByteReader in(payload.bytes());
-      merger->add(part, in, context);
+      payloads.push_back(payload.release());
+    }
+    return payloads;
+  }
+
+  // The build in parts: every part's payload read back as a part file's would be and merged in
+  // part order.
+  std::unique_ptr<Decoder> buildInParts(const SchemeInfo& scheme, const Params& params,
+                                        uint32_t tileSize, uint32_t partSize) const {
+    NullBuildContext context;
+    auto merger =
+        scheme.makePartMerger(info(scheme.kind), scheme.resolve(params), {tileSize, partSize});
+    const auto payloads = partPayloads(scheme, params, tileSize, partSize);
+    for (uint64_t index = 0; index < payloads.size(); ++index) {
+      ByteReader in(payloads[index]);
+      merger->add(MapPart::of(index, partSize), in, context);
       in.expectEnd();
     }
     return merger->finish(context);
