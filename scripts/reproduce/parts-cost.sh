@@ -5,9 +5,11 @@
 # their difference, build time, peak RSS and the declared memory estimate beside it. Both
 # builds are verified (sampled); the merged structure answers as the whole build by construction
 # (tests/parts_test.cpp checks every texel at small sizes).
-#   scripts/reproduce/parts-cost.sh [--max-resolution 64K] [sweep options]
+#   scripts/reproduce/parts-cost.sh [--max-resolution 256K] [sweep options] (64K² at most)
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
+# Its own records folder: the paper tables' keep one record per cell, whole or in parts.
+records=$out/$table/records
 schemes=cpvs,cpvs-fast,mh,mmh,dag-mh,compressed-sm
 for build in "city:full closed" "terrain:full closed" "forest:full static"; do
   read -r scene mode <<<"$build"

@@ -51,7 +51,7 @@ class EveryTable(unittest.TestCase):
         cls.records = fixture_records()
 
     def test_every_table_renders_as_before(self):
-        self.assertEqual(len(paper_tables.TABLES), 17)
+        self.assertEqual(len(paper_tables.TABLES), 18)
         for table in sorted(paper_tables.TABLES):
             for max_resolution in MAX_RESOLUTIONS:
                 with self.subTest(table=table, max_resolution=max_resolution):
@@ -68,6 +68,20 @@ class EveryTable(unittest.TestCase):
         text = paper_tables.render("scandolo2016-table1", self.records,
                                    arguments("scandolo2016-table1", "1K"))
         self.assertIn("| mh city closed (MH) | 0.593 | 1.30 |\n", text)
+
+
+class PartsCost(unittest.TestCase):
+
+    def test_a_build_in_parts_beside_its_whole_build(self):
+        schema = None if support.RECORD_SCHEMA.is_file() else {}
+        folder = support.FIXTURES / "parts-records"
+        with contextlib.redirect_stderr(io.StringIO()):
+            files = read_records(folder, "test", schema)
+        defaults = parse_schemes_json(support.SCHEMES_JSON.read_text(encoding="utf-8"))
+        text = paper_tables.render("parts-cost", Cells(files, defaults, folder, "test"),
+                                   arguments("parts-cost", "1K"))
+        self.assertIn("| mh | city closed | 1K² | 256² | 1.30 | 1.30 | +0.00% | 0.165 | 0.182 | "
+                      "0.154 | 0.154 | 0.146 | 0.0818 |\n", text)
 
 
 class RegistryDefaults(unittest.TestCase):
