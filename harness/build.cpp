@@ -95,13 +95,7 @@ std::vector<BuildOutcome> buildStructures(const DepthSource& source,
     encoders.push_back(builds[b].scheme->makeEncoder(outcomes[b].map, builds[b].params, shape));
   const StreamStats stream = streamDualDepth(
       source, shape.tileSize,
-      [&](const DualDepthTile& tile) {
-        for (size_t b = 0; b < builds.size(); ++b) {
-          contexts[b].enter();
-          encoders[b]->consume(tile, contexts[b]);
-          contexts[b].leave();
-        }
-      },
+      [&](const DualDepthTile& tile) { consumeSideBySide<Encoder>(tile, encoders, contexts); },
       progress);
   for (size_t b = 0; b < builds.size(); ++b) {
     contexts[b].enter();

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <tbb/parallel_for.h>
+
 #include "harness/depth_source.h"
 #include "schemes/interface/scheme.h"
 
@@ -83,5 +85,19 @@ class TimedBuildContext final : public BuildContext {
   double unnamed_ = 0;   // time before the scheme named one
   std::chrono::steady_clock::time_point since_ = std::chrono::steady_clock::now();
 };
+
+// Hands `tile` to every encoder of a shared depth pass side by side: the schemes' encoders are
+// independent, so they run in parallel, each still seeing the tiles in order and one at a time.
+// Each scheme's phases are then wall time while the others run beside it.
+template <class AnyEncoder>
+void consumeSideBySide(const DualDepthTile& tile,
+                       std::span<const std::unique_ptr<AnyEncoder>> encoders,
+                       std::span<TimedBuildContext> contexts) {
+  tbb::parallel_for(size_t(0), encoders.size(), [&](size_t e) {
+    contexts[e].enter();
+    encoders[e]->consume(tile, contexts[e]);
+    contexts[e].leave();
+  });
+}
 
 }  // namespace sb

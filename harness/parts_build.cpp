@@ -97,11 +97,7 @@ PartsEncoded encodeParts(const DepthSource& source, std::span<const PartsTarget>
           targets[t].build.scheme->makePartEncoder(maps[t], part, targets[t].build.params, shape));
     const StreamStats stream =
         streamDualDepth(source, shape.tileSize, part, [&](const DualDepthTile& tile) {
-          for (size_t e = 0; e < encoders.size(); ++e) {
-            contexts[e].enter();
-            encoders[e]->consume(tile, contexts[e]);
-            contexts[e].leave();
-          }
+          consumeSideBySide<PartEncoder>(tile, encoders, contexts);
         });
     for (size_t e = 0; e < encoders.size(); ++e) {
       const PartsTarget& target = targets[lacking[index][e]];
