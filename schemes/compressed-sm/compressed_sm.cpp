@@ -560,7 +560,7 @@ SchemeInfo compressedSm() {
   // The open segments' texels: a row of pieces' worth when segments are as short as the pieces
   // that deliver them (long segments keep more, up to the span); and the segments, at least one
   // per scanline (start and slope) with its row index entry. In parts (shape.inParts), the
-  // larger of one part's encoding (fitting its scanlines, or holding and writing its texels when
+  // larger (by shape.step: either) of one part's encoding (fitting its scanlines, or holding and writing its texels when
   // it is smaller than the span) and the merge (the structure, one part's payload and, for parts
   // smaller than the span, every scanline's open segment fed a part's width at a time).
   info.buildBytes = [](const MapInfo& map, const ParamValues& params, const BuildShape& shape) {

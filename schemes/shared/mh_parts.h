@@ -42,10 +42,10 @@ struct MhEncoding {
 };
 
 // Fills in `info`'s buildBytes, makeEncoder, makePartEncoder and makePartMerger; `info.name`
-// names the scheme in errors. For a build in parts, buildBytes is the larger of one part's
-// encoder (its tiles' working memory, its hierarchy and payload) and the merge (the whole
-// hierarchy and the encode step, one part's payload and nodes), each hierarchy at its floor: a
-// node per 64 texels up to 16K², 256 per texel row beyond (mh_parts.cpp).
+// names the scheme in errors. For a build in parts, buildBytes declares, by shape.step, one
+// part's encoder (its tiles' working memory, its hierarchy and payload), the merge (the whole
+// hierarchy and the encode step, one part's payload and nodes) or the larger, each hierarchy at
+// its floor: a node per 64 texels up to 16K², 256 per texel row beyond (mh_parts.cpp).
 void setMhBuilds(SchemeInfo& info, MhEncoding encoding);
 
 }  // namespace sb
