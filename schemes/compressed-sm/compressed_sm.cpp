@@ -559,10 +559,10 @@ SchemeInfo compressedSm() {
                       [](int64_t span) { return std::has_single_bit(uint64_t(span)); })};
   // The open segments' texels: a row of pieces' worth when segments are as short as the pieces
   // that deliver them (long segments keep more, up to the span); and the segments, at least one
-  // per scanline (start and slope) with its row index entry. In parts (shape.inParts), the
-  // larger (by shape.step: either) of one part's encoding (fitting its scanlines, or holding and writing its texels when
-  // it is smaller than the span) and the merge (the structure, one part's payload and, for parts
-  // smaller than the span, every scanline's open segment fed a part's width at a time).
+  // per scanline (start and slope) with its row index entry. In parts (shape.inParts), one part's
+  // encoding (fitting its scanlines, or holding and writing its texels when it is smaller than
+  // the span), the merge (the structure, one part's payload and, for parts smaller than the span,
+  // every scanline's open segment fed a part's width at a time), or the larger, by shape.step.
   info.buildBytes = [](const MapInfo& map, const ParamValues& params, const BuildShape& shape) {
     auto fitting = [](uint64_t scanlines, uint64_t width, uint64_t piece) {
       return scanlines * std::min(width, piece) * 2 * sizeof(float) +
