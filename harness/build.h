@@ -31,7 +31,8 @@ struct BuildOutcome {
   uint64_t closedFallbacks = 0;
   uint64_t baselineRssBytes = 0, peakRssBytes = 0;
   uint64_t estimatedBytes = 0;  // the scheme's declared build memory, checked before the build
-  std::vector<std::string> depthSharedWith;  // the other schemes its depth pass fed
+  std::vector<std::string> depthSharedWith;    // the other schemes its depth pass fed
+  std::vector<std::string> encoderSharedWith;  // those whose part payloads its encoder wrote
 };
 
 // The map a scheme builds at a resolution and mode (Rz = R for voxel schemes).

@@ -113,7 +113,8 @@ Record finishRecord(Record record, const SchemeInfo& scheme, const BuildOutcome&
   const SizeBreakdown sizes = built.decoder->size();
   for (const auto& [component, bytes] : sizes) record.sizeComponents[component] = bytes;
   record.sizeBytes = totalBytes(sizes);
-  RecordTimes times{built.totalSeconds, built.depthSeconds, {}, built.depthSharedWith};
+  RecordTimes times{
+      built.totalSeconds, built.depthSeconds, {}, built.depthSharedWith, built.encoderSharedWith};
   for (const auto& [phase, seconds] : built.phaseSeconds) times.phases[phase] = seconds;
   record.time = std::move(times);
   record.depthResolution = built.map.depthResolution;

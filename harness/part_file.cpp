@@ -16,13 +16,16 @@ using Json = nlohmann::json;
 Json costsJson(const PartCosts& costs) {
   Json phases = Json::array();
   for (const auto& [name, seconds] : costs.phases) phases.push_back({name, seconds});
-  return {{"depth_seconds", costs.depthSeconds},
-          {"wall_seconds", costs.wallSeconds},
-          {"phases", phases},
-          {"counters", costs.counters},
-          {"peak_rss_bytes", costs.peakRssBytes},
-          {"closed_fallbacks", costs.closedFallbacks},
-          {"depth_shared_with", costs.depthSharedWith}};
+  Json json{{"depth_seconds", costs.depthSeconds},
+            {"wall_seconds", costs.wallSeconds},
+            {"phases", phases},
+            {"counters", costs.counters},
+            {"peak_rss_bytes", costs.peakRssBytes},
+            {"closed_fallbacks", costs.closedFallbacks},
+            {"depth_shared_with", costs.depthSharedWith}};
+  // Written only when shared, so that a file of an unshared part reads as it did before.
+  if (!costs.encoderSharedWith.empty()) json["encoder_shared_with"] = costs.encoderSharedWith;
+  return json;
 }
 
 std::string headerJson(const PartIdentity& identity, const PartCosts& costs) {
@@ -60,6 +63,16 @@ double secondsField(const Json& object, const char* key) {
   return value.get<double>();
 }
 
+std::vector<std::string> schemeNames(const Json& list, std::string_view key) {
+  if (!list.is_array()) headerError(fmt::format("{} is not an array", key));
+  std::vector<std::string> names;
+  for (const Json& name : list) {
+    if (!name.is_string()) headerError(fmt::format("{} holds a non-string", key));
+    names.push_back(name.get<std::string>());
+  }
+  return names;
+}
+
 PartCosts parseCosts(const Json& json) {
   PartCosts costs;
   costs.depthSeconds = secondsField(json, "depth_seconds");
@@ -78,12 +91,9 @@ PartCosts parseCosts(const Json& json) {
     costs.counters[item.key()] = unsignedField<uint64_t>(counters, item.key().c_str(), UINT64_MAX);
   costs.peakRssBytes = unsignedField<uint64_t>(json, "peak_rss_bytes", UINT64_MAX);
   costs.closedFallbacks = unsignedField<uint64_t>(json, "closed_fallbacks", UINT64_MAX);
-  const Json& shared = field(json, "depth_shared_with");
-  if (!shared.is_array()) headerError("depth_shared_with is not an array");
-  for (const Json& name : shared) {
-    if (!name.is_string()) headerError("depth_shared_with holds a non-string");
-    costs.depthSharedWith.push_back(name.get<std::string>());
-  }
+  costs.depthSharedWith = schemeNames(field(json, "depth_shared_with"), "depth_shared_with");
+  if (json.contains("encoder_shared_with"))
+    costs.encoderSharedWith = schemeNames(json.at("encoder_shared_with"), "encoder_shared_with");
   return costs;
 }
 

@@ -31,6 +31,8 @@ struct PartIdentity {
 
 // What encoding one part cost. The depth pass of a part may be shared by several schemes
 // (`depthSharedWith` names the others); its time is the same figure in each of their part files.
+// So may its part encoder, when their schemes write the same part payload
+// (SchemeInfo::partPayload; `encoderSharedWith` names them): its phases are the same in each.
 struct PartCosts {
   double depthSeconds = 0;  // tracing, thread-seconds divided by the threads available
   double wallSeconds = 0;   // the part's depth pass and encoding, wall time
@@ -39,6 +41,7 @@ struct PartCosts {
   uint64_t peakRssBytes = 0;
   uint64_t closedFallbacks = 0;
   std::vector<std::string> depthSharedWith;
+  std::vector<std::string> encoderSharedWith;
 };
 
 struct PartFile {

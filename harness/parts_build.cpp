@@ -87,38 +87,57 @@ PartsEncoded encodeParts(const DepthSource& source, std::span<const PartsTarget>
       continue;
     }
     const MapPart part = MapPart::of(index, shape.partSize);
+    const std::vector<size_t>& lack = lacking[index];
     resetPeakRss();
     const uint64_t fallbacksBefore = source.closedFallbacks();
     const auto start = Clock::now();
-    std::vector<TimedBuildContext> contexts(lacking[index].size());
+    // One encoder per distinct part payload (SchemeInfo::partPayload); encoderOf[l] is the one
+    // whose payload the l-th lacking target's part file takes.
     std::vector<std::unique_ptr<PartEncoder>> encoders;
-    for (size_t t : lacking[index])
+    std::vector<size_t> encoderOf(lack.size()), owner;
+    for (size_t l = 0; l < lack.size(); ++l) {
+      const SchemeInfo& scheme = *targets[lack[l]].build.scheme;
+      auto same = std::find_if(owner.begin(), owner.end(), [&](size_t o) {
+        return !scheme.partPayload.empty() &&
+               targets[lack[o]].build.scheme->partPayload == scheme.partPayload;
+      });
+      encoderOf[l] = size_t(same - owner.begin());
+      if (same != owner.end()) continue;
+      owner.push_back(l);
       encoders.push_back(
-          targets[t].build.scheme->makePartEncoder(maps[t], part, targets[t].build.params, shape));
+          scheme.makePartEncoder(maps[lack[l]], part, targets[lack[l]].build.params, shape));
+    }
+    std::vector<TimedBuildContext> contexts(encoders.size());
     const StreamStats stream =
         streamDualDepth(source, shape.tileSize, part, [&](const DualDepthTile& tile) {
           consumeSideBySide<PartEncoder>(tile, encoders, contexts);
         });
+    std::vector<ByteWriter> payloads(encoders.size());
     for (size_t e = 0; e < encoders.size(); ++e) {
-      const PartsTarget& target = targets[lacking[index][e]];
-      ByteWriter payload;
       contexts[e].enter();
-      encoders[e]->finish(payload, contexts[e]);
+      encoders[e]->finish(payloads[e], contexts[e]);
       contexts[e].leave();
       contexts[e].close();
       encoders[e].reset();
+    }
+    for (size_t l = 0; l < lack.size(); ++l) {
+      const PartsTarget& target = targets[lack[l]];
+      const size_t e = encoderOf[l];
       PartCosts costs;
       costs.depthSeconds = stream.traceThreadSeconds / tbb::this_task_arena::max_concurrency();
-      costs.phases = std::move(contexts[e].phases);
-      costs.counters = std::move(contexts[e].counters);
+      costs.phases = contexts[e].phases;
+      costs.counters = contexts[e].counters;
       costs.closedFallbacks = source.closedFallbacks() - fallbacksBefore;
-      for (size_t other : lacking[index])
-        if (&targets[other] != &target)
-          costs.depthSharedWith.push_back(targets[other].build.scheme->name);
+      for (size_t other = 0; other < lack.size(); ++other) {
+        if (other == l) continue;
+        const std::string& name = targets[lack[other]].build.scheme->name;
+        costs.depthSharedWith.push_back(name);
+        if (encoderOf[other] == e) costs.encoderSharedWith.push_back(name);
+      }
       costs.wallSeconds = secondsSince(start);
       costs.peakRssBytes = peakRssBytes();
       savePartFile(partFilePath(target.folder, index), identityOfPart(target, index), costs,
-                   payload.bytes());
+                   payloads[e].bytes());
     }
     ++result.encoded;
     if (progress) progress(result.encoded, toDo);
@@ -174,7 +193,10 @@ BuildOutcome mergeParts(const PartsTarget& target, DepthMode mode, uint32_t reso
       partPhases[name] += seconds;
     }
     for (const auto& [name, value] : file.costs.counters) outcome.counters[name] += value;
-    if (index == 0) outcome.depthSharedWith = file.costs.depthSharedWith;
+    if (index == 0) {
+      outcome.depthSharedWith = file.costs.depthSharedWith;
+      outcome.encoderSharedWith = file.costs.encoderSharedWith;
+    }
     ByteReader payload(file.payload);
     try {
       context.enter();

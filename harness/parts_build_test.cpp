@@ -113,6 +113,26 @@ TEST_CASE("several schemes share one depth pass, whole and in parts", "[parts]")
                     Catch::Contains("must share scene, light, mode"));
 }
 
+TEST_CASE("schemes that write the same part payload share one part encoder", "[parts]") {
+  ScratchDir dir;
+  const CellOptions options = quickOptions(dir.path());
+  const std::vector<CellSpec> cells = {smallCell("mh", 64), smallCell("mmh", 64),
+                                       smallCell("sm32", 64), smallCell("dag-mh", 64)};
+  std::vector<Record> records(cells.size());
+  runCells(cells, smallCity(), options,
+           [&](size_t cell, const Record& record) { records.at(cell) = record; });
+  for (const Record& record : records) CHECK(record.verification->mismatches == 0);
+  CHECK(records[0].time->encoderSharedWith == std::vector<std::string>{"mmh", "dag-mh"});
+  CHECK(records[1].time->encoderSharedWith == std::vector<std::string>{"mh", "dag-mh"});
+  CHECK(records[2].time->encoderSharedWith.empty());
+  CHECK(records[3].time->depthSharedWith == std::vector<std::string>{"mh", "mmh", "sm32"});
+  // One encoder's payload in each scheme's part file, under each scheme's own tag.
+  const PartFile mh = decodePartFile(readBytes(partFilePath(folderOf(cells[0], options), 5)));
+  const PartFile dagMh = decodePartFile(readBytes(partFilePath(folderOf(cells[3], options), 5)));
+  CHECK(std::ranges::equal(mh.payload, dagMh.payload));
+  CHECK(mh.costs.phases == dagMh.costs.phases);
+}
+
 TEST_CASE("a build in parts resumes from its part files and encodes only what is missing",
           "[parts]") {
   ScratchDir dir;

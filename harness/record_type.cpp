@@ -132,6 +132,22 @@ uint32_t smallCount(const Fields& fields, std::string_view key) {
   return uint32_t(value);
 }
 
+// An optional list of scheme names.
+std::vector<std::string> schemeNames(const Fields& parent, std::string_view key) {
+  std::vector<std::string> names;
+  const json* list = parent.find(key);
+  if (!list) return names;
+  if (!list->is_array())
+    throw RecordError(fmt::format("{} is {}, not a list", parent.name(key), Fields::shown(*list)));
+  for (const json& name : *list) {
+    if (!name.is_string())
+      throw RecordError(
+          fmt::format("{} holds {}, not a scheme name", parent.name(key), Fields::shown(name)));
+    names.push_back(name.get<std::string>());
+  }
+  return names;
+}
+
 RecordLookup lookupOf(const json& value, const std::string& path) {
   const Fields t(value, path);
   RecordLookup lookup;
@@ -173,6 +189,8 @@ void to_json(json& j, const Record& r) {
     j["time_s"] = {{"total", r.time->total}, {"depth", r.time->depth}, {"phases", r.time->phases}};
     if (!r.time->depthSharedWith.empty())
       j["time_s"]["depth_shared_with"] = r.time->depthSharedWith;
+    if (!r.time->encoderSharedWith.empty())
+      j["time_s"]["encoder_shared_with"] = r.time->encoderSharedWith;
   }
   if (r.depth)
     j["depth"] = {{"texels", r.depth->texels},
@@ -249,21 +267,10 @@ void from_json(const json& j, Record& out) {
 
   if (top.has("time_s")) {
     const Fields time = top.object("time_s");
-    r.time = RecordTimes{time.amount("total"),
-                         time.amount("depth"),
+    r.time = RecordTimes{time.amount("total"), time.amount("depth"),
                          mapOf<double>(time, "phases", Fields::amountValue),
-                         {}};
-    if (const json* shared = time.find("depth_shared_with")) {
-      if (!shared->is_array())
-        throw RecordError(
-            fmt::format("time_s.depth_shared_with is {}, not a list", Fields::shown(*shared)));
-      for (const json& name : *shared) {
-        if (!name.is_string())
-          throw RecordError(fmt::format("time_s.depth_shared_with holds {}, not a scheme name",
-                                        Fields::shown(name)));
-        r.time->depthSharedWith.push_back(name.get<std::string>());
-      }
-    }
+                         schemeNames(time, "depth_shared_with"),
+                         schemeNames(time, "encoder_shared_with")};
   }
   if (top.has("depth")) {
     const Fields depth = top.object("depth");

@@ -44,6 +44,9 @@ struct RecordTimes {
   std::map<std::string, double> phases;
   // The other schemes one depth pass also fed (issue 12): `depth` is the time of that shared pass.
   std::vector<std::string> depthSharedWith;
+  // The other schemes its part encoder also wrote for (SchemeInfo::partPayload): the encoder's
+  // phases are that one shared encoder's.
+  std::vector<std::string> encoderSharedWith;
 };
 
 struct RecordDepth {

@@ -149,6 +149,11 @@ struct SchemeInfo {
       makePartEncoder;
   std::function<std::unique_ptr<PartMerger>(const MapInfo&, const ParamValues&, const BuildShape&)>
       makePartMerger;
+  // Schemes whose part encoders write the same payload, whatever their parameters, name it alike
+  // here ("" for a payload of the scheme's own): a depth pass feeding several of them runs one
+  // part encoder and gives each its payload (issue 12: MH, MMH and DAG-MH differ only in the
+  // merge).
+  std::string partPayload;
   bool buildsInParts() const { return makePartEncoder && makePartMerger; }
 
   // Defaults filled in, every value checked against its spec; throws ParamError.

@@ -257,6 +257,7 @@ void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
                             const BuildShape&) -> std::unique_ptr<PartEncoder> {
     return std::make_unique<MhPartEncoder>(map, part);
   };
+  info.partPayload = "mh-part-hierarchy";
   info.makePartMerger = [encodeFor, scheme = info.name](
                             const MapInfo& map, const ParamValues& params,
                             const BuildShape& shape) -> std::unique_ptr<PartMerger> {
