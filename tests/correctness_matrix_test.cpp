@@ -69,12 +69,14 @@ void checkScene(const std::string& sceneName) {
     SECTION(scheme.name + " exhaustive") {
       for (uint32_t resolution : {64u, 256u}) checkCell(scheme, sceneName, mode, resolution, {});
     }
-    if (kSampledCells) SECTION(scheme.name + " sampled") {
+    if (kSampledCells) {
+      SECTION(scheme.name + " sampled") {
         VerifyOptions sampled;
         sampled.exhaustiveUpTo = 256;
         sampled.sampledQueries = 200'000;
         checkCell(scheme, sceneName, mode, 1024, sampled);
       }
+    }
   }
 }
 
