@@ -31,6 +31,10 @@ struct BuildOutcome {
   uint64_t closedFallbacks = 0;
   uint64_t baselineRssBytes = 0, peakRssBytes = 0;
   uint64_t estimatedBytes = 0;  // the scheme's declared build memory, checked before the build
+  // A build in parts: the declared memory and the peak of its part encoding (the largest part's
+  // depth pass, every encoder of it) and of its merge, apart.
+  uint64_t partsEstimatedBytes = 0, partsPeakRssBytes = 0;
+  uint64_t mergeEstimatedBytes = 0, mergePeakRssBytes = 0;
   std::vector<std::string> depthSharedWith;    // the other schemes its depth pass fed
   std::vector<std::string> encoderSharedWith;  // those whose part payloads its encoder wrote
 };

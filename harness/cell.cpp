@@ -122,7 +122,14 @@ Record finishRecord(Record record, const SchemeInfo& scheme, const BuildOutcome&
       RecordDepth{built.texels, double(built.texels) / std::max(built.depthSeconds, 1e-9) * 1e-6,
                   built.closedFallbacks, std::string(toString(source.method()))};
   record.counters = {built.counters.begin(), built.counters.end()};
-  record.memory = RecordMemory{built.peakRssBytes, built.baselineRssBytes, built.estimatedBytes};
+  record.memory.emplace();
+  record.memory->peakRssBytes = built.peakRssBytes;
+  record.memory->baselineRssBytes = built.baselineRssBytes;
+  record.memory->estimatedBytes = built.estimatedBytes;
+  if (built.shape.inParts(built.map)) {
+    record.memory->parts = {built.partsEstimatedBytes, built.partsPeakRssBytes};
+    record.memory->merge = {built.mergeEstimatedBytes, built.mergePeakRssBytes};
+  }
 
   if (options.saveStructureTo)
     saveStructure(*options.saveStructureTo,
@@ -179,6 +186,7 @@ void checkCellsFit(std::span<const ResolvedCell> cells, const CellSpec& spec) {
   BuildShape shape = spec.shape();
   if (shape.partSize) shape.step = BuildShape::Step::EncodePart;
   uint64_t together = 0;
+  std::vector<SchemeBuild> builds;
   for (const ResolvedCell& cell : cells) {
     const MapInfo map = mapFor(*cell.scheme, spec.mode, spec.resolution);
     if (shape.partSize) {
@@ -187,7 +195,10 @@ void checkCellsFit(std::span<const ResolvedCell> cells, const CellSpec& spec) {
                      {shape.tileSize, shape.partSize, BuildShape::Step::Merge});
     }
     together += checkBuildFits(*cell.scheme, map, cell.params, shape);
+    builds.push_back({cell.scheme, cell.params});
   }
+  // Schemes that write one part payload share one part encoder (SchemeInfo::partPayload).
+  if (shape.partSize) together = partPassBytes(builds, spec.mode, spec.resolution, shape);
   const uint64_t available = availableMemoryBytes();
   if (cells.size() > 1 && together > available)
     throw std::runtime_error(fmt::format(

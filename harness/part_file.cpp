@@ -25,6 +25,7 @@ Json costsJson(const PartCosts& costs) {
             {"depth_shared_with", costs.depthSharedWith}};
   // Written only when shared, so that a file of an unshared part reads as it did before.
   if (!costs.encoderSharedWith.empty()) json["encoder_shared_with"] = costs.encoderSharedWith;
+  if (costs.estimatedBytes) json["estimated_bytes"] = costs.estimatedBytes;
   return json;
 }
 
@@ -94,6 +95,8 @@ PartCosts parseCosts(const Json& json) {
   costs.depthSharedWith = schemeNames(field(json, "depth_shared_with"), "depth_shared_with");
   if (json.contains("encoder_shared_with"))
     costs.encoderSharedWith = schemeNames(json.at("encoder_shared_with"), "encoder_shared_with");
+  if (json.contains("estimated_bytes"))
+    costs.estimatedBytes = unsignedField<uint64_t>(json, "estimated_bytes", UINT64_MAX);
   return costs;
 }
 

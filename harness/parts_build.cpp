@@ -39,7 +39,30 @@ PartIdentity identityOfPart(const PartsTarget& target, uint64_t index) {
   return identity;
 }
 
+// The build whose part encoder writes build b's payload: the first that writes the same
+// (SchemeInfo::partPayload), b itself when none before it does.
+size_t encoderOwner(std::span<const SchemeBuild> builds, size_t b) {
+  const std::string& payload = builds[b].scheme->partPayload;
+  if (payload.empty()) return b;
+  return size_t(
+      std::find_if(builds.begin(), builds.end(),
+                   [&](const SchemeBuild& other) { return other.scheme->partPayload == payload; }) -
+      builds.begin());
+}
+
 }  // namespace
+
+uint64_t partPassBytes(std::span<const SchemeBuild> builds, DepthMode mode, uint32_t resolution,
+                       const BuildShape& shape) {
+  BuildShape part = shape;
+  part.step = BuildShape::Step::EncodePart;
+  uint64_t bytes = 0;
+  for (size_t b = 0; b < builds.size(); ++b)
+    if (encoderOwner(builds, b) == b && builds[b].scheme->buildBytes)
+      bytes += builds[b].scheme->buildBytes(mapFor(*builds[b].scheme, mode, resolution),
+                                            builds[b].params, part);
+  return bytes;
+}
 
 void checkPartShape(const SchemeInfo& scheme, const MapInfo& map, const BuildShape& shape) {
   if (!std::has_single_bit(shape.partSize) || shape.partSize < shape.tileSize ||
@@ -93,20 +116,21 @@ PartsEncoded encodeParts(const DepthSource& source, std::span<const PartsTarget>
     const auto start = Clock::now();
     // One encoder per distinct part payload (SchemeInfo::partPayload); encoderOf[l] is the one
     // whose payload the l-th lacking target's part file takes.
+    std::vector<SchemeBuild> builds;
+    for (size_t t : lack) builds.push_back(targets[t].build);
     std::vector<std::unique_ptr<PartEncoder>> encoders;
-    std::vector<size_t> encoderOf(lack.size()), owner;
+    std::vector<size_t> encoderOf(lack.size());
     for (size_t l = 0; l < lack.size(); ++l) {
-      const SchemeInfo& scheme = *targets[lack[l]].build.scheme;
-      auto same = std::find_if(owner.begin(), owner.end(), [&](size_t o) {
-        return !scheme.partPayload.empty() &&
-               targets[lack[o]].build.scheme->partPayload == scheme.partPayload;
-      });
-      encoderOf[l] = size_t(same - owner.begin());
-      if (same != owner.end()) continue;
-      owner.push_back(l);
+      const size_t owner = encoderOwner(builds, l);
+      if (owner < l) {
+        encoderOf[l] = encoderOf[owner];
+        continue;
+      }
+      encoderOf[l] = encoders.size();
       encoders.push_back(
-          scheme.makePartEncoder(maps[lack[l]], part, targets[lack[l]].build.params, shape));
+          builds[l].scheme->makePartEncoder(maps[lack[l]], part, builds[l].params, shape));
     }
+    const uint64_t passBytes = partPassBytes(builds, source.mode(), source.resolution(), shape);
     std::vector<TimedBuildContext> contexts(encoders.size());
     const StreamStats stream =
         streamDualDepth(source, shape.tileSize, part, [&](const DualDepthTile& tile) {
@@ -136,6 +160,7 @@ PartsEncoded encodeParts(const DepthSource& source, std::span<const PartsTarget>
       }
       costs.wallSeconds = secondsSince(start);
       costs.peakRssBytes = peakRssBytes();
+      costs.estimatedBytes = passBytes;
       savePartFile(partFilePath(target.folder, index), identityOfPart(target, index), costs,
                    payloads[e].bytes());
     }
@@ -153,24 +178,28 @@ BuildOutcome mergeParts(const PartsTarget& target, DepthMode mode, uint32_t reso
   outcome.params = target.build.params;
   outcome.shape = shape;
   checkPartShape(scheme, outcome.map, shape);
-  checkBuildFits(scheme, outcome.map, outcome.params,
-                 {shape.tileSize, shape.partSize, BuildShape::Step::Merge});
-  // What the record sets beside the peak of the parts and the merge: the larger declaration.
-  outcome.estimatedBytes = scheme.buildBytes ? scheme.buildBytes(outcome.map, outcome.params,
-                                                                 {shape.tileSize, shape.partSize})
-                                             : 0;
 
   const uint64_t count = MapPart::countFor(outcome.map, shape.partSize);
   uint64_t missing = 0, firstMissing = 0;
-  for (uint64_t index = count; index-- > 0;)
-    if (!std::filesystem::exists(partFilePath(target.folder, index)))
+  BuildShape merge{shape.tileSize, shape.partSize, BuildShape::Step::Merge};
+  for (uint64_t index = count; index-- > 0;) {
+    const std::filesystem::path path = partFilePath(target.folder, index);
+    std::error_code error;
+    const uint64_t bytes = std::filesystem::file_size(path, error);
+    if (error) {
       ++missing, firstMissing = index;
+      continue;
+    }
+    merge.partFiles.totalBytes += bytes;
+    merge.partFiles.largestBytes = std::max(merge.partFiles.largestBytes, bytes);
+  }
   if (missing)
     throw std::runtime_error(
         fmt::format("{} of {} part files of {} are missing in '{}', the first {} (encode them with "
                     "'shadowbench part' or 'build --part-size')",
                     missing, count, scheme.name, target.folder.string(),
                     partFilePath(target.folder, firstMissing).filename().string()));
+  outcome.mergeEstimatedBytes = checkBuildFits(scheme, outcome.map, outcome.params, merge);
 
   resetPeakRss();
   outcome.baselineRssBytes = currentRssBytes();
@@ -187,6 +216,7 @@ BuildOutcome mergeParts(const PartsTarget& target, DepthMode mode, uint32_t reso
     outcome.depthSeconds += file.costs.depthSeconds;
     partsWall += file.costs.wallSeconds;
     partsPeak = std::max(partsPeak, file.costs.peakRssBytes);
+    outcome.partsEstimatedBytes = std::max(outcome.partsEstimatedBytes, file.costs.estimatedBytes);
     outcome.closedFallbacks += file.costs.closedFallbacks;
     for (const auto& [name, seconds] : file.costs.phases) {
       if (!partPhases.count(name)) partPhaseOrder.push_back(name);
@@ -226,7 +256,15 @@ BuildOutcome mergeParts(const PartsTarget& target, DepthMode mode, uint32_t reso
   for (const auto& [name, value] : context.counters) outcome.counters[name] += value;
   outcome.texels = outcome.map.texelCount();
   outcome.totalSeconds = partsWall + secondsSince(start);
-  outcome.peakRssBytes = std::max(partsPeak, peakRssBytes());
+  outcome.mergePeakRssBytes = peakRssBytes();
+  outcome.partsPeakRssBytes = partsPeak;
+  outcome.peakRssBytes = std::max(partsPeak, outcome.mergePeakRssBytes);
+  // Part files written before passes recorded their declaration count this scheme's encoder.
+  if (!outcome.partsEstimatedBytes && scheme.buildBytes)
+    outcome.partsEstimatedBytes =
+        scheme.buildBytes(outcome.map, outcome.params,
+                          {shape.tileSize, shape.partSize, BuildShape::Step::EncodePart});
+  outcome.estimatedBytes = std::max(outcome.partsEstimatedBytes, outcome.mergeEstimatedBytes);
   return outcome;
 }
 

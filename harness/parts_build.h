@@ -27,6 +27,11 @@ struct PartsTarget {
 // and the scheme builds in parts.
 void checkPartShape(const SchemeInfo& scheme, const MapInfo& map, const BuildShape& shape);
 
+// The declared memory of one part's depth pass over `builds`: one part encoder per distinct part
+// payload (SchemeInfo::partPayload), as encodeParts runs them.
+uint64_t partPassBytes(std::span<const SchemeBuild> builds, DepthMode mode, uint32_t resolution,
+                       const BuildShape& shape);
+
 struct PartsEncoded {
   uint64_t encoded = 0;  // parts encoded now, for at least one target
   uint64_t kept = 0;     // parts every target already had
@@ -41,8 +46,9 @@ PartsEncoded encodeParts(const DepthSource& source, std::span<const PartsTarget>
                          const std::function<void(uint64_t done, uint64_t total)>& progress = {});
 
 // The target's structure from its part files, in part order; throws naming a missing part (and
-// how many are missing). Times, counters and peak memory are the parts' (summed; the peak is the
-// largest) with the merge's phases and peak added.
+// how many are missing), and refuses a merge whose declared memory, from the part files' bytes
+// (BuildShape::partFiles), does not fit. Times, counters and peak memory are the parts' (summed;
+// the peak is the largest) with the merge's phases and peak added.
 BuildOutcome mergeParts(const PartsTarget& target, DepthMode mode, uint32_t resolution,
                         const BuildShape& shape);
 

@@ -131,6 +131,20 @@ TEST_CASE("schemes that write the same part payload share one part encoder", "[p
   const PartFile dagMh = decodePartFile(readBytes(partFilePath(folderOf(cells[3], options), 5)));
   CHECK(std::ranges::equal(mh.payload, dagMh.payload));
   CHECK(mh.costs.phases == dagMh.costs.phases);
+  // The pass declares one MH encoder, not three (issue 12: checkCellsFit counted it per scheme).
+  const auto encoderBytes = [](const char* name) {
+    const SchemeInfo& scheme = findScheme(name);
+    return scheme.buildBytes(mapFor(scheme, DepthMode::Closed, 256), scheme.resolve({}),
+                             {32, 64, BuildShape::Step::EncodePart});
+  };
+  CHECK(mh.costs.estimatedBytes == encoderBytes("mh") + encoderBytes("sm32"));
+  for (const Record& record : records) {
+    REQUIRE(record.memory->parts);
+    REQUIRE(record.memory->merge);
+    CHECK(record.memory->parts->estimatedBytes == mh.costs.estimatedBytes);
+    CHECK(record.memory->merge->estimatedBytes > 0);
+    CHECK(record.memory->merge->peakRssBytes > 0);
+  }
 }
 
 TEST_CASE("a build in parts resumes from its part files and encodes only what is missing",

@@ -197,11 +197,18 @@ TEST_CASE("a Record of a build in parts keeps its part size, shared depth pass a
   written["part_size"] = 1024;
   written["time_s"]["depth_shared_with"] = {"mh", "dag-mh"};
   written["memory"]["estimated_bytes"] = 1000;
+  written["memory"]["parts"] = {{"estimated_bytes", 600}, {"peak_rss_bytes", 700}};
+  written["memory"]["merge"] = {{"estimated_bytes", 1000}, {"peak_rss_bytes", 900}};
   const sb::Record record = written.get<sb::Record>();
   CHECK(record.partSize == 1024);
   CHECK(record.time->depthSharedWith == std::vector<std::string>{"mh", "dag-mh"});
   CHECK(record.memory->estimatedBytes == 1000);
+  CHECK(record.memory->parts->peakRssBytes == 700);
+  CHECK(record.memory->merge->estimatedBytes == 1000);
   CHECK(json(record) == written);
+  written["memory"]["merge"].erase("peak_rss_bytes");
+  CHECK_THROWS_WITH(written.get<sb::Record>(), Catch::Contains("memory.merge.peak_rss_bytes"));
+  written["memory"]["merge"]["peak_rss_bytes"] = 900;
   written["time_s"]["depth_shared_with"] = "mh";
   CHECK_THROWS_WITH(written.get<sb::Record>(), Catch::Contains("time_s.depth_shared_with"));
 }

@@ -202,6 +202,11 @@ void to_json(json& j, const Record& r) {
     j["memory"] = {{"peak_rss_bytes", r.memory->peakRssBytes},
                    {"baseline_rss_bytes", r.memory->baselineRssBytes}};
     if (r.memory->estimatedBytes) j["memory"]["estimated_bytes"] = r.memory->estimatedBytes;
+    for (const auto& [key, step] :
+         {std::pair{"parts", &r.memory->parts}, {"merge", &r.memory->merge}})
+      if (*step)
+        j["memory"][key] = {{"estimated_bytes", (*step)->estimatedBytes},
+                            {"peak_rss_bytes", (*step)->peakRssBytes}};
   }
   if (r.verification)
     j["verification"] = {{"method", r.verification->method},
@@ -280,8 +285,17 @@ void from_json(const json& j, Record& out) {
   r.counters = mapOf<uint64_t>(top, "counters", Fields::countValue);
   if (top.has("memory")) {
     const Fields memory = top.object("memory");
-    r.memory = RecordMemory{memory.count("peak_rss_bytes"), memory.count("baseline_rss_bytes"),
-                            memory.count("estimated_bytes")};
+    r.memory.emplace();
+    r.memory->peakRssBytes = memory.count("peak_rss_bytes");
+    r.memory->baselineRssBytes = memory.count("baseline_rss_bytes");
+    r.memory->estimatedBytes = memory.count("estimated_bytes");
+    for (const auto& [key, step] :
+         {std::pair{"parts", &r.memory->parts}, {"merge", &r.memory->merge}})
+      if (memory.has(key)) {
+        const Fields fields = memory.object(key);
+        *step = RecordMemoryStep{fields.count("estimated_bytes", true),
+                                 fields.count("peak_rss_bytes", true)};
+      }
   }
   if (top.has("verification")) {
     const Fields v = top.object("verification");

@@ -56,9 +56,17 @@ struct RecordDepth {
   std::string method;
 };
 
+// One step of a build in parts: what it declared before it started, and its peak.
+struct RecordMemoryStep {
+  uint64_t estimatedBytes = 0, peakRssBytes = 0;
+};
+
 struct RecordMemory {
   uint64_t peakRssBytes = 0, baselineRssBytes = 0;
   uint64_t estimatedBytes = 0;  // the scheme's declared build memory, checked before the build
+  // A build in parts: its parts' depth passes (each feeding every scheme of its cell set) and its
+  // merge, the merge declared from the part files.
+  std::optional<RecordMemoryStep> parts, merge;
 };
 
 struct RecordVerification {

@@ -8,6 +8,7 @@
 #include "harness/cli/commands.h"
 #include "harness/cli/options.h"
 #include "harness/depth_source.h"
+#include "harness/parts_build.h"
 
 namespace sb::cli {
 
@@ -21,11 +22,13 @@ struct EstimateOptions {
 
 // The declared build memory a scheduler reserves for a job. A whole build from one depth pass
 // holds every scheme's build at once ("build_bytes"); a part job holds one part encoder of every
-// scheme ("part_bytes", the sum); a merge job one scheme's merge ("merge_bytes", the largest).
+// scheme ("part_bytes", the sum, one encoder for schemes that share a part payload); a merge job
+// one scheme's merge ("merge_bytes", the largest, before the part files exist).
 void printEstimate(const EstimateOptions& o) {
   const std::vector<CellSpec> cells = cellsOf(o.map, o.schemes, o.parts);
   nlohmann::json perScheme = nlohmann::json::object();
-  uint64_t build = 0, part = 0, merge = 0;
+  uint64_t build = 0, merge = 0;
+  std::vector<SchemeBuild> builds;
   for (const CellSpec& cell : cells) {
     const SchemeInfo& scheme = findScheme(cell.scheme);
     const MapInfo map = mapFor(scheme, cell.mode, cell.resolution);
@@ -40,13 +43,16 @@ void printEstimate(const EstimateOptions& o) {
     if (cell.partSize) {
       own["part_bytes"] = bytes(BuildShape::Step::EncodePart);
       own["merge_bytes"] = bytes(BuildShape::Step::Merge);
-      part += own["part_bytes"].get<uint64_t>();
+      builds.push_back({&scheme, params});
       merge = std::max(merge, own["merge_bytes"].get<uint64_t>());
     }
     perScheme[cell.scheme] = own;
   }
   nlohmann::json estimate = {{"build_bytes", build}, {"schemes", perScheme}};
-  if (cells.front().partSize) estimate["part_bytes"] = part, estimate["merge_bytes"] = merge;
+  if (cells.front().partSize)
+    estimate["part_bytes"] =
+        partPassBytes(builds, cells.front().mode, cells.front().resolution, cells.front().shape()),
+    estimate["merge_bytes"] = merge;
   fmt::print("{}\n", estimate.dump());
   flushStandardOutput();
 }

@@ -116,9 +116,18 @@ struct BuildShape {
   // the build as a whole (the larger of the two).
   enum class Step { Whole, EncodePart, Merge };
 
+  BuildShape(uint32_t tileSize = 512, uint32_t partSize = 0, Step step = Step::Whole)
+      : tileSize(tileSize), partSize(partSize), step(step) {}
+
   uint32_t tileSize = 512;
   uint32_t partSize = 0;  // 0: a whole build; else a power of two in [tileSize, R) (parts.h)
   Step step = Step::Whole;
+  // For the merge once the parts exist: their part files' bytes, all together and the largest.
+  // A merge's memory follows what the parts hold, which no floor known before them predicts
+  // (issue 12: forest:full static at 128K² keeps 4× the nodes of the closed city's floor).
+  struct PartFiles {
+    uint64_t totalBytes = 0, largestBytes = 0;
+  } partFiles;
 
   bool inParts(const MapInfo& map) const { return partSize != 0 && partSize < map.resolution; }
   // A build in parts' declared bytes for this step, from those of one part encoder and the merge.
@@ -136,7 +145,8 @@ struct SchemeInfo {
   std::vector<ParamSpec> params;
   // Bytes the build needs at least, working memory and the structure it grows together: for
   // refusing, before starting, a resolution that cannot fit. For a build in parts
-  // (shape.inParts), those of shape.step: BuildShape::partsBytes(part encoder, merge).
+  // (shape.inParts), those of shape.step: BuildShape::partsBytes(part encoder, merge); the
+  // merge's from shape.partFiles when they are known.
   std::function<uint64_t(const MapInfo&, const ParamValues&, const BuildShape&)> buildBytes;
   std::function<std::unique_ptr<Encoder>(const MapInfo&, const ParamValues&, const BuildShape&)>
       makeEncoder;

@@ -242,10 +242,17 @@ void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
     if (!shape.inParts(map))
       return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) +
              wholeBuildBytes(map);
-    const uint64_t partBytes = nodesAtFloor(shape.partSize) * (sizeof(MhNode) + kMhPartNodeBytes);
+    constexpr uint64_t kPartNodeBytes = sizeof(MhNode) + kMhPartNodeBytes;  // read and held
+    const uint64_t partBytes = nodesAtFloor(shape.partSize) * kPartNodeBytes;
     const uint64_t encoder =
         MhBuilder::workingBytes(std::min(shape.partSize, shape.tileSize)) + partBytes;
-    const uint64_t merge = nodesAtFloor(map.resolution) * (sizeof(MhNode) + perNode) + partBytes;
+    // Once the parts exist their payloads count the nodes: a part file is its nodes' records
+    // (kMhPartNodeBytes each) and a header; the merged hierarchy keeps every one of them.
+    const BuildShape::PartFiles& files = shape.partFiles;
+    const uint64_t merge =
+        files.totalBytes ? files.totalBytes / kMhPartNodeBytes * (sizeof(MhNode) + perNode) +
+                               files.largestBytes / kMhPartNodeBytes * kPartNodeBytes
+                         : nodesAtFloor(map.resolution) * (sizeof(MhNode) + perNode) + partBytes;
     return shape.partsBytes(encoder, merge);
   };
   const auto encodeFor = encoding.encodeFor;

@@ -37,7 +37,8 @@ struct MhEncoding {
   // A whole build's bytes beyond the tiles' working memory, the hierarchy included.
   std::function<uint64_t(const MapInfo&)> wholeBuildBytes;
   // Bytes per hierarchy node that the encode step holds beside the hierarchy at its peak: with
-  // the hierarchy's floor, what the merge of parts needs.
+  // the hierarchy's nodes (counted from the part files, or its floor before they exist), what
+  // the merge of parts needs.
   uint64_t encodeBytesPerNode = 0;
 };
 

@@ -71,8 +71,14 @@ SchemeInfo voxelDagScheme(std::string name, std::string paper) {
     // A part's DAG, and so its payload, taken as the part's share of the map's side: above the
     // measured share (city closed 8K² in parts of 2K²: 13% of the DAG, not 25%).
     const uint64_t part = dag * shape.partSize / map.resolution;
-    return kBuildSlackBytes +
-           shape.partsBytes(tileArrays + kDagBuildFactor * part, kDagBuildFactor * dag + part);
+    // Once the parts exist, the merged DAG is bounded by their payloads together (merging only
+    // shares) and measured at 43% (city closed 256K², 64 parts) to 79% (forest static 128K², 16
+    // parts) of them: kDagBuildFactor times the middle, 60%, and the part being read.
+    const BuildShape::PartFiles& files = shape.partFiles;
+    const uint64_t merge = files.totalBytes
+                               ? kDagBuildFactor * files.totalBytes * 3 / 5 + files.largestBytes
+                               : kDagBuildFactor * dag + part;
+    return kBuildSlackBytes + shape.partsBytes(tileArrays + kDagBuildFactor * part, merge);
   };
   info.load = [](ByteReader& in, const MapInfo& map, const ParamValues& params) {
     const VoxelDagConfig config = voxelDagConfig(map, params);

@@ -139,9 +139,14 @@ class CellSet:
         """`shadowbench build` of one cell of the set in one piece (no parts)."""
         return ["build", *self._map_args(), "--scheme", scheme, *self._params_of(scheme)]
 
-    def estimate_args(self, scheme):
-        args = ["estimate", "--scheme", scheme, *self._params_of(scheme), "--mode", self.mode,
-                "--resolution", spelled(self.resolution), "--part-size", str(self.part_size)]
+    def estimate_args(self, schemes):
+        """`shadowbench estimate` of SCHEMES (some of the set's) as one depth pass feeds them."""
+        args = ["estimate", "--mode", self.mode, "--resolution", spelled(self.resolution),
+                "--part-size", str(self.part_size)]
+        for scheme in schemes:
+            args += ["--scheme", scheme]
+        for scheme in schemes:
+            args += self._params_of(scheme, qualified=len(schemes) > 1)
         if self.tile is not None:
             args += ["--tile", str(self.tile)]
         return args
