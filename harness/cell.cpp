@@ -245,6 +245,24 @@ Record mergeCell(const CellSpec& cell, const Scene& scene, const CellOptions& op
                       labelOf(cell, scene, resolved[0].scheme->name));
 }
 
+void mergeCells(std::span<const CellSpec> cells, const Scene& scene, const CellOptions& options,
+                const std::function<void(size_t, const Record&)>& done) {
+  std::vector<std::string> failed;
+  for (size_t c = 0; c < cells.size(); ++c) {
+    std::optional<Record> record;
+    try {
+      record = mergeCell(cells[c], scene, options);
+    } catch (const std::runtime_error& error) {
+      failed.push_back(fmt::format("{}: {}", cells[c].scheme, error.what()));
+      continue;
+    }
+    done(c, *record);
+  }
+  if (!failed.empty())
+    throw std::runtime_error(fmt::format("{} of {} merges failed (the others are recorded): {}",
+                                         failed.size(), cells.size(), fmt::join(failed, "; ")));
+}
+
 void runCells(std::span<const CellSpec> cells, const Scene& scene, const CellOptions& options,
               const std::function<void(size_t, const Record&)>& done) {
   const std::vector<ResolvedCell> resolved = resolveCells(cells, scene);
@@ -252,7 +270,7 @@ void runCells(std::span<const CellSpec> cells, const Scene& scene, const CellOpt
   checkCellsFit(resolved, spec);
   if (spec.partSize) {
     encodeCellParts(cells, scene, options, std::nullopt);
-    for (size_t c = 0; c < cells.size(); ++c) done(c, mergeCell(cells[c], scene, options));
+    mergeCells(cells, scene, options, done);
     return;
   }
   const DepthSource source(scene, sceneLight(scene, spec.lightIndex), spec.mode, spec.resolution);

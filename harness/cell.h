@@ -75,6 +75,12 @@ PartsEncoded encodeCellParts(std::span<const CellSpec> cells, const Scene& scene
 // timed, recorded. For the cluster workflow's merge jobs.
 Record mergeCell(const CellSpec& cell, const Scene& scene, const CellOptions& options);
 
+// mergeCell for each cell, handing each record to `done` as it is complete. A merge that fails
+// (a missing or damaged part, a merge that does not fit in memory) does not stop the others:
+// afterwards one std::runtime_error names every cell that failed and why.
+void mergeCells(std::span<const CellSpec> cells, const Scene& scene, const CellOptions& options,
+                const std::function<void(size_t cell, const Record& record)>& done);
+
 // The light at `index` in the scene, fitted; throws naming the scene's light count.
 Light sceneLight(const Scene& scene, uint32_t index);
 

@@ -175,6 +175,25 @@ TEST_CASE("a build in parts resumes from its part files and encodes only what is
                     Catch::Contains("part 16 does not exist: the map has 16 parts"));
 }
 
+TEST_CASE("a merge that fails leaves the other cells of its set merged and recorded",
+          "[parts][regression]") {
+  // Issue 12: a six-scheme row whose one merge did not fit lost the merges after it.
+  ScratchDir dir;
+  const CellOptions options = quickOptions(dir.path());
+  const std::vector<CellSpec> cells = {smallCell("sm32", 64), smallCell("mh", 64)};
+  encodeCellParts(cells, smallCity(), options, std::nullopt);
+  std::filesystem::remove(partFilePath(folderOf(cells[0], options), 3));
+  std::vector<size_t> merged;
+  CHECK_THROWS_WITH(mergeCells(cells, smallCity(), options,
+                               [&](size_t cell, const Record& record) {
+                                 CHECK(record.verification->mismatches == 0);
+                                 merged.push_back(cell);
+                               }),
+                    Catch::Contains("1 of 2 merges failed") &&
+                        Catch::Contains("sm32: 1 of 16 part files of sm32 are missing"));
+  CHECK(merged == std::vector<size_t>{1});
+}
+
 TEST_CASE("a part file of another build is refused, naming what differs, and kept", "[parts]") {
   ScratchDir dir;
   const CellOptions options = quickOptions(dir.path());

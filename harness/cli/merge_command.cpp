@@ -23,8 +23,9 @@ int mergeCells(const MergeOptions& o) {
   const Scene scene = openScene(o.map.scene);
   const CellOptions options = o.record.cellOptions(o.parts);
   bool mismatches = false;
-  for (const CellSpec& cell : cells)
-    mismatches = writeCellRecord(mergeCell(cell, scene, options), o.record.results) || mismatches;
+  mergeCells(cells, scene, options, [&](size_t, const Record& record) {
+    mismatches = writeCellRecord(record, o.record.results) || mismatches;
+  });
   return mismatches ? 1 : 0;
 }
 
