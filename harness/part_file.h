@@ -39,7 +39,8 @@ struct PartCosts {
   std::vector<std::pair<std::string, double>> phases;
   std::map<std::string, uint64_t> counters;
   uint64_t peakRssBytes = 0;
-  // The declared memory of the part's depth pass: every part encoder it ran (0: not recorded).
+  // The declared memory of the part's depth pass: every part encoder it ran (0: not recorded;
+  // the key is optional, so part files written before it existed still read).
   uint64_t estimatedBytes = 0;
   uint64_t closedFallbacks = 0;
   std::vector<std::string> depthSharedWith;

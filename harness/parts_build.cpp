@@ -259,11 +259,6 @@ BuildOutcome mergeParts(const PartsTarget& target, DepthMode mode, uint32_t reso
   outcome.mergePeakRssBytes = peakRssBytes();
   outcome.partsPeakRssBytes = partsPeak;
   outcome.peakRssBytes = std::max(partsPeak, outcome.mergePeakRssBytes);
-  // Part files written before passes recorded their declaration count this scheme's encoder.
-  if (!outcome.partsEstimatedBytes && scheme.buildBytes)
-    outcome.partsEstimatedBytes =
-        scheme.buildBytes(outcome.map, outcome.params,
-                          {shape.tileSize, shape.partSize, BuildShape::Step::EncodePart});
   outcome.estimatedBytes = std::max(outcome.partsEstimatedBytes, outcome.mergeEstimatedBytes);
   return outcome;
 }

@@ -204,9 +204,10 @@ void to_json(json& j, const Record& r) {
     if (r.memory->estimatedBytes) j["memory"]["estimated_bytes"] = r.memory->estimatedBytes;
     for (const auto& [key, step] :
          {std::pair{"parts", &r.memory->parts}, {"merge", &r.memory->merge}})
-      if (*step)
-        j["memory"][key] = {{"estimated_bytes", (*step)->estimatedBytes},
-                            {"peak_rss_bytes", (*step)->peakRssBytes}};
+      if (*step) {
+        j["memory"][key] = {{"peak_rss_bytes", (*step)->peakRssBytes}};
+        if ((*step)->estimatedBytes) j["memory"][key]["estimated_bytes"] = (*step)->estimatedBytes;
+      }
   }
   if (r.verification)
     j["verification"] = {{"method", r.verification->method},
@@ -293,8 +294,8 @@ void from_json(const json& j, Record& out) {
          {std::pair{"parts", &r.memory->parts}, {"merge", &r.memory->merge}})
       if (memory.has(key)) {
         const Fields fields = memory.object(key);
-        *step = RecordMemoryStep{fields.count("estimated_bytes", true),
-                                 fields.count("peak_rss_bytes", true)};
+        *step =
+            RecordMemoryStep{fields.count("estimated_bytes"), fields.count("peak_rss_bytes", true)};
       }
   }
   if (top.has("verification")) {

@@ -56,7 +56,8 @@ struct RecordDepth {
   std::string method;
 };
 
-// One step of a build in parts: what it declared before it started, and its peak.
+// One step of a build in parts: what it declared before it started (0: not recorded, as by part
+// files written before part files kept it), and its peak.
 struct RecordMemoryStep {
   uint64_t estimatedBytes = 0, peakRssBytes = 0;
 };
