@@ -45,7 +45,7 @@ TEST_CASE("the tile size changes the memory estimate of the schemes whose workin
 TEST_CASE("a merge declares at least what its part files hold, and more for more",
           "[build][parts][regression]") {
   // Issue 12: the merge of forest:full static at 128K² declared a floor of 3.0 GiB for mmh and
-  // peaked at 13.3 GiB; its part files held 4.4× the nodes of the floor.
+  // peaked at 13.3 GiB; its part files held 4.2× the nodes of the floor.
   // (sm32's and sm-zstd's structures have a size the map decides, whatever the parts hold.)
   constexpr uint64_t kPartFiles = uint64_t(1) << 30;
   for (const char* name : {"mh", "mmh", "dag-mh", "compressed-sm", "cpvs", "cpvs-fast"}) {
