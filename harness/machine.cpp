@@ -3,6 +3,7 @@
 #include <malloc.h>
 #include <sys/utsname.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -70,8 +71,47 @@ nlohmann::json machineInfo() {
           {"os", operatingSystem()}};
 }
 
+std::optional<uint64_t> cgroupMemoryLeft(const std::filesystem::path& cgroupRoot,
+                                         const std::filesystem::path& procSelfCgroup) {
+  const auto number = [](const std::filesystem::path& file) -> std::optional<uint64_t> {
+    std::ifstream value(file);
+    uint64_t bytes = 0;
+    if (!(value >> bytes)) return std::nullopt;  // absent, or "max"
+    return bytes;
+  };
+  std::optional<uint64_t> left;
+  // The least room over a group and its ancestors, up to the hierarchy's root.
+  const auto walk = [&](const std::filesystem::path& hierarchy, const std::string& group,
+                        const char* limitFile, const char* usageFile) {
+    for (std::filesystem::path at = hierarchy / group.substr(1);; at = at.parent_path()) {
+      const auto limit = number(at / limitFile), used = number(at / usageFile);
+      if (limit && used)
+        left = std::min(left.value_or(UINT64_MAX), *limit - std::min(*limit, *used));
+      if (at == hierarchy || !at.has_parent_path() || at.parent_path() == at) break;
+    }
+  };
+  // Lines "id:controllers:/path": "0::/path" is the unified (v2) hierarchy; a v1 memory
+  // controller has its own, under <root>/memory.
+  std::ifstream in(procSelfCgroup);
+  for (std::string line; std::getline(in, line);) {
+    const size_t first = line.find(':'), second = line.find(':', first + 1);
+    if (first == std::string::npos || second == std::string::npos) continue;
+    const std::string controllers = line.substr(first + 1, second - first - 1);
+    const std::string group = line.substr(second + 1);
+    if (!group.starts_with("/")) continue;
+    if (controllers.empty())
+      walk(cgroupRoot, group, "memory.max", "memory.current");
+    else if (controllers == "memory" || controllers.starts_with("memory,") ||
+             controllers.find(",memory") != std::string::npos)
+      walk(cgroupRoot / "memory", group, "memory.limit_in_bytes", "memory.usage_in_bytes");
+  }
+  return left;
+}
+
 uint64_t availableMemoryBytes() {
-  return procKilobytes("/proc/meminfo", "MemAvailable");
+  const uint64_t available = procKilobytes("/proc/meminfo", "MemAvailable");
+  const auto confined = cgroupMemoryLeft("/sys/fs/cgroup", "/proc/self/cgroup");
+  return confined ? std::min(available, *confined) : available;
 }
 uint64_t currentRssBytes() {
   return procKilobytes("/proc/self/status", "VmRSS");

@@ -441,6 +441,36 @@ TEST_CASE("cellKey is filesystem-safe and distinct for odd scene names", "[recor
   CHECK(sb::cellKey(record) != longKey);
 }
 
+TEST_CASE("the memory a build may use is its control group's room where that is less",
+          "[record][regression]") {
+  // Issue 12: under Slurm a merge checked the node's free memory, not its job's limit.
+  ScratchDir dir("sb-cgroup-test");
+  const std::filesystem::path root = dir.path() / "cgroup";
+  const auto write = [](const std::filesystem::path& file, const std::string& text) {
+    std::filesystem::create_directories(file.parent_path());
+    std::ofstream(file) << text;
+  };
+  write(root / "slurm/job1/memory.max", "1000\n");
+  write(root / "slurm/job1/memory.current", "400\n");
+  write(root / "slurm/job1/step0/memory.max", "max\n");
+  write(root / "slurm/job1/step0/memory.current", "100\n");
+  const std::filesystem::path self = dir.path() / "self";
+  write(self, "0::/slurm/job1/step0\n");
+  CHECK(sb::cgroupMemoryLeft(root, self) == 600u);  // the job's limit, above the step
+  write(root / "slurm/job1/step0/memory.max", "150\n");
+  CHECK(sb::cgroupMemoryLeft(root, self) == 50u);  // the tighter of the two
+  write(root / "slurm/job1/step0/memory.current", "900\n");
+  CHECK(sb::cgroupMemoryLeft(root, self) == 0u);  // over its limit: no room, not a wrap-around
+  // cgroup v1: the memory controller's own hierarchy.
+  write(root / "memory/job/memory.limit_in_bytes", "2000\n");
+  write(root / "memory/job/memory.usage_in_bytes", "500\n");
+  write(self, "4:memory:/job\n0::/\n");
+  CHECK(sb::cgroupMemoryLeft(root, self) == 1500u);
+  write(self, "0::/unlimited\n");
+  CHECK(sb::cgroupMemoryLeft(root, self) == std::nullopt);
+  CHECK(sb::cgroupMemoryLeft(root, dir.path() / "absent") == std::nullopt);
+}
+
 TEST_CASE("machine facts and memory figures come from this machine", "[record]") {
   const json machine = sb::machineInfo();
   CHECK(machine.at("cpu").is_string());
