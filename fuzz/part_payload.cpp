@@ -57,13 +57,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   sb::testing::NullBuildContext context;
   auto merger = scheme->makePartMerger(map, params, {kPartSize, kPartSize});
   try {
-    for (uint64_t index = 0; index < validPayloads.size(); ++index) {
-      sb::ByteReader payload(index == 0 ? std::span(data, size)
-                                        : std::span<const uint8_t>(validPayloads[index]));
-      merger->add(sb::MapPart::of(index, kPartSize), payload, context);
-      payload.expectEnd();
-    }
-    sb::fuzz::exerciseDecoder(*merger->finish(context));
+    sb::fuzz::exerciseDecoder(*sb::testing::mergePayloads(
+        *merger, validPayloads.size(), kPartSize,
+        [&](uint64_t index) {
+          return index == 0 ? std::span(data, size)
+                            : std::span<const uint8_t>(validPayloads[index]);
+        },
+        context));
   } catch (const sb::FormatError&) {
   }
   return 0;

@@ -194,7 +194,8 @@ void checkCellsFit(std::span<const ResolvedCell> cells, const CellSpec& spec) {
       checkBuildFits(*cell.scheme, map, cell.params,
                      {shape.tileSize, shape.partSize, BuildShape::Step::Merge});
     }
-    together += checkBuildFits(*cell.scheme, map, cell.params, shape);
+    const uint64_t bytes = checkBuildFits(*cell.scheme, map, cell.params, shape);
+    if (!shape.partSize) together += bytes;
     builds.push_back({cell.scheme, cell.params});
   }
   // Schemes that write one part payload share one part encoder (SchemeInfo::partPayload).

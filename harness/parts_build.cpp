@@ -210,9 +210,26 @@ BuildOutcome mergeParts(const PartsTarget& target, DepthMode mode, uint32_t reso
   std::vector<std::string> partPhaseOrder;
   double partsWall = 0;
   uint64_t partsPeak = 0;
-  for (uint64_t index = 0; index < count; ++index) {
+  for (uint64_t pass = 0, index = 0;; ++index) {
+    if (index == count) {
+      context.enter();
+      const bool again = merger->anotherPass(context);
+      context.leave();
+      if (!again) break;
+      ++pass, index = 0;
+    }
     const std::filesystem::path path = partFilePath(target.folder, index);
     const PartFile file = loadPartFile(path, identityOfPart(target, index));
+    ByteReader payload(file.payload);
+    try {
+      context.enter();
+      merger->add(MapPart::of(index, shape.partSize), payload, context);
+      context.leave();
+      payload.expectEnd();
+    } catch (const FormatError& error) {
+      throw FormatError(fmt::format("part file '{}': {}", path.string(), error.what()));
+    }
+    if (pass > 0) continue;
     outcome.depthSeconds += file.costs.depthSeconds;
     partsWall += file.costs.wallSeconds;
     partsPeak = std::max(partsPeak, file.costs.peakRssBytes);
@@ -226,15 +243,6 @@ BuildOutcome mergeParts(const PartsTarget& target, DepthMode mode, uint32_t reso
     if (index == 0) {
       outcome.depthSharedWith = file.costs.depthSharedWith;
       outcome.encoderSharedWith = file.costs.encoderSharedWith;
-    }
-    ByteReader payload(file.payload);
-    try {
-      context.enter();
-      merger->add(MapPart::of(index, shape.partSize), payload, context);
-      context.leave();
-      payload.expectEnd();
-    } catch (const FormatError& error) {
-      throw FormatError(fmt::format("part file '{}': {}", path.string(), error.what()));
     }
   }
   context.enter();

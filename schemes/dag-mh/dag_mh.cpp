@@ -117,7 +117,8 @@ SchemeInfo dagMh() {
                      [](const MapInfo& map) {
                        return std::min<uint64_t>(map.texelCount() / 2, uint64_t(1) << 26) * 32;
                      },
-                     21});
+                     21,
+                     {}});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues& params) -> std::unique_ptr<Decoder> {
     if (!validResolution(map.resolution))

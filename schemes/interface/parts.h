@@ -43,13 +43,17 @@ class PartEncoder {
   virtual void finish(ByteWriter& out, BuildContext& context) = 0;
 };
 
-// Joins part payloads into the final structure. Parts arrive in index order, every part once;
-// a payload is validated as a structure file's payload is (throws FormatError naming the part).
-// The merger keeps no more than the structure it grows plus what one part needs.
+// Joins part payloads into the final structure. Parts arrive in index order, every part once per
+// pass; a payload is validated as a structure file's payload is (throws FormatError naming the
+// part). The merger keeps no more than the structure it grows plus what one part needs.
 class PartMerger {
  public:
   virtual ~PartMerger() = default;
   virtual void add(const MapPart& part, ByteReader& payload, BuildContext& context) = 0;
+  // Asked after every pass over the parts: a merger that would otherwise hold every part at once
+  // (the structure's layout depends on all of them) reads them again instead. finish() follows
+  // the last pass.
+  virtual bool anotherPass(BuildContext&) { return false; }
   virtual std::unique_ptr<Decoder> finish(BuildContext& context) = 0;
 };
 

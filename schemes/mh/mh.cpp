@@ -14,22 +14,25 @@ constexpr int kOffsetBits = 16;
 
 using MhDecoder = OffsetQuadtreeDecoder<OffsetQuadtree::Values::Absolute>;
 
+std::unique_ptr<Decoder> mhDecoder(OffsetQuadtree tree, const MhNodeCounts& counts,
+                                   BuildContext& context) {
+  context.count("full nodes", counts.full);
+  context.count("empty nodes", counts.empty);
+  context.count("leaves", counts.leaves);
+  return std::make_unique<MhDecoder>(std::move(tree));
+}
+
 std::unique_ptr<Decoder> encodeMh(MultiresHierarchy hierarchy, BuildContext& context) {
   context.phase("serialise");
   // SBE16a §5: each interval is replaced by one representative, its middle.
   std::vector<uint32_t> values(hierarchy.nodes.size());
-  uint64_t kinds[4] = {};
+  MhNodeCounts counts;
   for (size_t n = 0; n < values.size(); ++n) {
-    const MhNode& node = hierarchy.nodes[n];
-    values[n] = node.interval.middle();
-    for (int k = 0; k < kMhChildren; ++k) ++kinds[int(node.child(k))];
+    values[n] = hierarchy.nodes[n].interval.middle();
+    counts.addChildrenOf(hierarchy.nodes[n]);
   }
-  const bool rootHasChildren = hierarchy.nodes.back().hasChildren();
-  context.count("full nodes", kinds[int(MhChild::Full)] + rootHasChildren);
-  context.count("empty nodes", kinds[int(MhChild::Empty)]);
-  context.count("leaves", kinds[int(MhChild::Leaf)] + !rootHasChildren);
-  return std::make_unique<MhDecoder>(
-      layoutOffsetQuadtree(hierarchy, values, {}, kOffsetBits, "mh"));
+  counts.addRoot(hierarchy.nodes.back());
+  return mhDecoder(layoutOffsetQuadtree(hierarchy, values, {}, kOffsetBits, "mh"), counts, context);
 }
 
 SchemeInfo mh() {
@@ -38,9 +41,12 @@ SchemeInfo mh() {
   info.paper = "Scandolo, Bauszat & Eisemann 2016, compressed multiresolution hierarchies";
   info.kind = SchemeKind::Depth;
   // The encode step keeps per node its value (4 bytes), its position, level and kind in the
-  // layout (10) and at least a word of the structure (4).
+  // layout (10) and at least a word of the structure (4). A merge of parts lays the structure
+  // out part by part and holds only its words.
   setMhBuilds(info, {[](const MapInfo&, const ParamValues&) -> HierarchyEncode { return encodeMh; },
-                     MhBuilder::hierarchyFloorBytes, 18});
+                     MhBuilder::hierarchyFloorBytes,
+                     18,
+                     {mhDecoder, kOffsetBits}});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<MhDecoder>(OffsetQuadtree::load(in, map, "mh"));

@@ -54,7 +54,9 @@ SchemeInfo mmh() {
                          return encodeMmh(std::move(hierarchy), searchDistance, context);
                        };
                      },
-                     MhBuilder::hierarchyFloorBytes, 74});
+                     MhBuilder::hierarchyFloorBytes,
+                     74,
+                     {}});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<MmhDecoder>(OffsetQuadtree::load(in, map, "mmh"));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -140,27 +141,35 @@ class MhPartEncoder final : public PartEncoder {
   bool started_ = false;
 };
 
+// Checks that `part` is the one expected next: parts arrive in index order, every pass.
+void expectPart(const std::string& scheme, uint64_t next, uint32_t partSize, const MapPart& part) {
+  const MapPart expected = MapPart::of(next, partSize);
+  if (part.index != expected.index || part.size != expected.size || part.x0 != expected.x0 ||
+      part.y0 != expected.y0)
+    throw std::invalid_argument(
+        fmt::format("{}: part {} ({}² at ({}, {})) given where part {} ({}² at ({}, {})) is next",
+                    scheme, part.index, part.size, part.x0, part.y0, expected.index, expected.size,
+                    expected.x0, expected.y0));
+}
+
+uint32_t checkedPartSize(const std::string& scheme, uint32_t partSize, const MapInfo& map) {
+  if (!std::has_single_bit(partSize) || partSize >= map.resolution)
+    throw std::invalid_argument(fmt::format("{}: part size {} is not a power of two below {}",
+                                            scheme, partSize, map.resolution));
+  return partSize;
+}
+
 class MhPartMerger final : public PartMerger {
  public:
   MhPartMerger(const MapInfo& map, std::string scheme, uint32_t partSize, HierarchyEncode encode)
       : map_(map),
         scheme_(std::move(scheme)),
-        partSize_(partSize),
+        partSize_(checkedPartSize(scheme_, partSize, map)),
         builder_(map),
-        encode_(std::move(encode)) {
-    if (!std::has_single_bit(partSize) || partSize >= map.resolution)
-      throw std::invalid_argument(fmt::format("{}: part size {} is not a power of two below {}",
-                                              scheme_, partSize, map.resolution));
-  }
+        encode_(std::move(encode)) {}
 
   void add(const MapPart& part, ByteReader& payload, BuildContext& context) override {
-    const MapPart expected = MapPart::of(nextPart_, partSize_);
-    if (part.index != expected.index || part.size != expected.size || part.x0 != expected.x0 ||
-        part.y0 != expected.y0)
-      throw std::invalid_argument(
-          fmt::format("{}: part {} ({}² at ({}, {})) given where part {} ({}² at ({}, {})) is next",
-                      scheme_, part.index, part.size, part.x0, part.y0, expected.index,
-                      expected.size, expected.x0, expected.y0));
+    expectPart(scheme_, nextPart_, partSize_, part);
     if (nextPart_ == 0) context.phase("merge");
     builder_.consume(part, readMhPart(payload, part, scheme_));
     ++nextPart_;
@@ -181,6 +190,82 @@ class MhPartMerger final : public PartMerger {
   MhBuilder builder_;
   HierarchyEncode encode_;
   uint64_t nextPart_ = 0;
+};
+
+// The merge of `mh` (MhEncoding::partwise): the first pass feeds the parts' roots to the
+// builder of the levels above them and measures every part's block; each further pass measures
+// again until the scales settle, and the last writes every part's block into the structure.
+class PartwiseMhMerger final : public PartMerger {
+ public:
+  PartwiseMhMerger(const MapInfo& map, std::string scheme, uint32_t partSize,
+                   MhEncoding::Partwise partwise)
+      : map_(map),
+        scheme_(std::move(scheme)),
+        partSize_(checkedPartSize(scheme_, partSize, map)),
+        partwise_(std::move(partwise)),
+        upperBuilder_(map),
+        layout_(std::countr_zero(map.resolution),
+                std::countr_zero(map.resolution) - std::countr_zero(partSize_),
+                MapPart::countFor(map, partSize_), partwise_.offsetBits, scheme_.c_str()) {}
+
+  void add(const MapPart& part, ByteReader& payload, BuildContext& context) override {
+    expectPart(scheme_, nextPart_, partSize_, part);
+    if (nextPart_ == 0) context.phase(upper_ ? writing_ ? "serialise" : "layout" : "merge");
+    MhBuilder::PartHierarchy hierarchy = readMhPart(payload, part, scheme_);
+    if (!upper_) upperBuilder_.consume(part, {{}, hierarchy.root});
+    if (writing_)
+      for (const MhNode& node : hierarchy.nodes) counts_.addChildrenOf(node);
+    MultiresHierarchy tree{map_.resolution, std::countr_zero(map_.resolution),
+                           std::move(hierarchy.nodes)};
+    const MhBuilder::Pending& root = hierarchy.root;
+    tree.nodes.push_back({root.interval, root.firstChild, root.childFlags});
+    if (writing_)
+      layout_.write(part.index, tree);
+    else
+      layout_.measure(part.index, tree);
+    ++nextPart_;
+  }
+
+  bool anotherPass(BuildContext& context) override {
+    checkAllParts();
+    if (writing_) return false;
+    if (!upper_) upper_ = upperBuilder_.finish();
+    context.phase("layout");
+    writing_ = layout_.settle(*upper_);
+    nextPart_ = 0;
+    ++passes_;
+    return true;
+  }
+
+  std::unique_ptr<Decoder> finish(BuildContext& context) override {
+    checkAllParts();
+    if (!writing_)
+      throw std::logic_error(fmt::format("{}: the merge finished before its last pass", scheme_));
+    for (const MhNode& node : upper_->nodes) counts_.addChildrenOf(node);
+    counts_.addRoot(upper_->nodes.back());
+    context.count("passes over the parts", passes_);
+    return partwise_.decoder(layout_.finish(), counts_, context);
+  }
+
+ private:
+  void checkAllParts() const {
+    const uint64_t parts = MapPart::countFor(map_, partSize_);
+    if (nextPart_ != parts)
+      throw std::logic_error(
+          fmt::format("{}: {} of the {} parts were merged", scheme_, nextPart_, parts));
+  }
+
+  MapInfo map_;
+  std::string scheme_;
+  uint32_t partSize_;
+  MhEncoding::Partwise partwise_;
+  MhBuilder upperBuilder_;
+  std::optional<MultiresHierarchy> upper_;  // the levels above the parts, after the first pass
+  PartwiseLayout layout_;
+  bool writing_ = false;
+  MhNodeCounts counts_;
+  uint64_t nextPart_ = 0;
+  uint64_t passes_ = 1;
 };
 
 }  // namespace
@@ -237,8 +322,9 @@ MhBuilder::PartHierarchy readMhPart(ByteReader& in, const MapPart& part,
 
 void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
   info.buildBytes = [wholeBuildBytes = encoding.wholeBuildBytes,
-                     perNode = encoding.encodeBytesPerNode](const MapInfo& map, const ParamValues&,
-                                                            const BuildShape& shape) {
+                     perNode = encoding.encodeBytesPerNode,
+                     partwise = bool(encoding.partwise.decoder)](
+                        const MapInfo& map, const ParamValues&, const BuildShape& shape) {
     if (!shape.inParts(map))
       return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) +
              wholeBuildBytes(map);
@@ -249,10 +335,15 @@ void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
     // Once the parts exist their payloads count the nodes: a part file is its nodes' records
     // (kMhPartNodeBytes each) and a header; the merged hierarchy keeps every one of them.
     const BuildShape::PartFiles& files = shape.partFiles;
-    const uint64_t merge =
-        files.totalBytes ? files.totalBytes / kMhPartNodeBytes * (sizeof(MhNode) + perNode) +
-                               files.largestBytes / kMhPartNodeBytes * kPartNodeBytes
-                         : nodesAtFloor(map.resolution) * (sizeof(MhNode) + perNode) + partBytes;
+    // The partwise merge holds the structure's words (two a node at most, padding aside) and one
+    // part with its layout (a position, level, kind and value a node).
+    const uint64_t mergedPerNode = partwise ? 8 : sizeof(MhNode) + perNode;
+    const uint64_t partPerNode = kPartNodeBytes + (partwise ? 14 : 0);
+    const uint64_t merge = files.totalBytes
+                               ? files.totalBytes / kMhPartNodeBytes * mergedPerNode +
+                                     files.largestBytes / kMhPartNodeBytes * partPerNode
+                               : nodesAtFloor(map.resolution) * mergedPerNode +
+                                     nodesAtFloor(shape.partSize) * partPerNode;
     return shape.partsBytes(encoder, merge);
   };
   const auto encodeFor = encoding.encodeFor;
@@ -265,9 +356,11 @@ void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
     return std::make_unique<MhPartEncoder>(map, part);
   };
   info.partPayload = "mh-part-hierarchy";
-  info.makePartMerger = [encodeFor, scheme = info.name](
+  info.makePartMerger = [encodeFor, partwise = encoding.partwise, scheme = info.name](
                             const MapInfo& map, const ParamValues& params,
                             const BuildShape& shape) -> std::unique_ptr<PartMerger> {
+    if (partwise.decoder)
+      return std::make_unique<PartwiseMhMerger>(map, scheme, shape.partSize, partwise);
     return std::make_unique<MhPartMerger>(map, scheme, shape.partSize, encodeFor(map, params));
   };
 }

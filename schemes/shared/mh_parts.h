@@ -14,6 +14,7 @@
 #include "schemes/interface/parts.h"
 #include "schemes/interface/serial.h"
 #include "schemes/shared/multires_hierarchy.h"
+#include "schemes/shared/offset_quadtree.h"
 
 namespace sb {
 
@@ -40,13 +41,22 @@ struct MhEncoding {
   // the hierarchy's nodes (counted from the part files, or its floor before they exist), what
   // the merge of parts needs.
   uint64_t encodeBytesPerNode = 0;
+  // Set where the structure is an offset quadtree of the nodes' middles without merged subtrees
+  // (`mh`): the merge of parts then lays it out part by part (PartwiseLayout), reading the parts
+  // once per round of scales and never holding the whole hierarchy, and hands it to `decoder`.
+  struct Partwise {
+    std::function<std::unique_ptr<Decoder>(OffsetQuadtree, const MhNodeCounts&, BuildContext&)>
+        decoder;
+    int offsetBits = 0;
+  } partwise;
 };
 
 // Fills in `info`'s buildBytes, makeEncoder, makePartEncoder and makePartMerger; `info.name`
 // names the scheme in errors. For a build in parts, buildBytes declares, by shape.step, one
 // part's encoder (its tiles' working memory, its hierarchy and payload), the merge (the whole
-// hierarchy and the encode step, one part's payload and nodes) or the larger, each hierarchy at
-// its floor: a node per 64 texels up to 16K², 256 per texel row beyond (mh_parts.cpp).
+// hierarchy and the encode step, or the partwise layout's words, and one part's payload, nodes
+// and layout) or the larger, each hierarchy at its floor: a node per 64 texels up to 16K², 256
+// per texel row beyond (mh_parts.cpp), or counted from the part files once they exist.
 void setMhBuilds(SchemeInfo& info, MhEncoding encoding);
 
 }  // namespace sb

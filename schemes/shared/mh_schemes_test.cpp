@@ -3,6 +3,7 @@
 // single 2×2 groups, the deepest stored interval of every texel whatever the tile size, and
 // scaled offsets with their padding.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -199,6 +200,56 @@ TEST_CASE("offsets too long for their bits scale up, and lookups follow the padd
                  h.texelInterval(i, j).middle();
     CHECK(wrong == 0);
   }
+}
+
+// The partwise layout of a merge of parts (PartwiseLayout) against the whole layout: the same
+// words and scales, also where few offset bits make the scales grow over several rounds, with
+// the parts read again every round as the merge reads them.
+TEST_CASE("an offset quadtree laid out part by part is the whole layout, word for word",
+          "[mh][parts]") {
+  for (DepthMode mode : {DepthMode::Open, DepthMode::Static})
+    for (uint32_t partSize : {8u, 32u}) {
+      const SyntheticMap map = SyntheticMap::random(64, mode, 21);
+      const MapInfo info = map.info(SchemeKind::Depth);
+      const MultiresHierarchy whole = hierarchyOf(map, 8);
+      std::vector<uint32_t> values(whole.nodes.size());
+      for (size_t n = 0; n < values.size(); ++n) values[n] = whole.nodes[n].interval.middle();
+      const uint64_t partCount = MapPart::countFor(info, partSize);
+      std::vector<MultiresHierarchy> trees;
+      MhBuilder upperBuilder(info);
+      for (uint64_t index = 0; index < partCount; ++index) {
+        const MapPart part = MapPart::of(index, partSize);
+        MhBuilder builder(info, part);
+        const uint64_t tiles = uint64_t(partSize / 8) * (partSize / 8);
+        map.stream(
+            8, [&](const DualDepthTile& tile) { builder.consume(tile); }, index * tiles,
+            (index + 1) * tiles);
+        MhBuilder::PartHierarchy hierarchy = builder.finishPart();
+        upperBuilder.consume(part, {{}, hierarchy.root});
+        MultiresHierarchy tree{64, 6, std::move(hierarchy.nodes)};
+        tree.nodes.push_back(
+            {hierarchy.root.interval, hierarchy.root.firstChild, hierarchy.root.childFlags});
+        trees.push_back(std::move(tree));
+      }
+      const MultiresHierarchy upper = upperBuilder.finish();
+      for (int bits : {3, 5, 16}) {
+        INFO(toString(mode) << ", parts " << partSize << "², " << bits << "-bit offsets");
+        const OffsetQuadtree expected = layoutOffsetQuadtree(whole, values, {}, bits, "test");
+        PartwiseLayout layout(6, 6 - std::countr_zero(partSize), partCount, bits, "test");
+        int rounds = 0;
+        do {
+          ++rounds;
+          for (uint64_t index = 0; index < partCount; ++index) layout.measure(index, trees[index]);
+        } while (!layout.settle(upper));
+        for (uint64_t index = 0; index < partCount; ++index) layout.write(index, trees[index]);
+        const OffsetQuadtree got = layout.finish();
+        if (bits == 16) CHECK(rounds == 1);
+        if (bits == 3) CHECK(rounds > 1);
+        CHECK(got.rootKind == expected.rootKind);
+        CHECK(got.levelScale == expected.levelScale);
+        CHECK(got.words == expected.words);
+      }
+    }
 }
 
 TEST_CASE("hierarchical PCF reads a blocky map's coarse levels exactly", "[mh]") {

@@ -77,6 +77,20 @@ struct MultiresHierarchy {
   KeyInterval texelInterval(uint32_t i, uint32_t j) const;
 };
 
+// Stored nodes by kind (SBE16a's counts): each node counted by its parent's flag, the root by
+// whether it has children.
+struct MhNodeCounts {
+  uint64_t full = 0, empty = 0, leaves = 0;
+  void addChildrenOf(const MhNode& node) {
+    for (int k = 0; k < kMhChildren; ++k) {
+      const MhChild kind = node.child(k);
+      full += kind == MhChild::Full, empty += kind == MhChild::Empty,
+          leaves += kind == MhChild::Leaf;
+    }
+  }
+  void addRoot(const MhNode& root) { ++(root.hasChildren() ? full : leaves); }
+};
+
 // Builds the MH bottom-up tile by tile (SBE16a §3, "tiled construction"): each tile's levels are
 // reduced to one node, and the tile roots, arriving in Morton order, are reduced the same way to
 // the root. At every 2×2 group the largest subset of children whose intervals intersect moves

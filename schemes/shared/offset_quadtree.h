@@ -103,6 +103,40 @@ OffsetQuadtree layoutOffsetQuadtree(const MultiresHierarchy& hierarchy,
                                     std::span<const uint32_t> sharedChildren, int offsetBits,
                                     const char* scheme);
 
+// An offset quadtree without merged subtrees laid out part by part, as a merge of parts reads
+// them (`mh`, mh_parts.h), without ever holding the whole hierarchy: depth-first placement puts
+// everything below a part's root in one contiguous block, whose inner layout depends on the
+// scales alone, so the structure is the upper levels' packs with the parts' blocks between them.
+// The scales grow as layoutOffsetQuadtree's do, one pass over the parts per round: measure()
+// every part, then settle(); once settle() finds the scales final, write() every part, then
+// finish(). The result is layoutOffsetQuadtree's with every value the node's middle, word for
+// word. A part's tree is its stored nodes with its root appended last (MultiresHierarchy order).
+class PartwiseLayout {
+ public:
+  PartwiseLayout(int levels, int partLevel, uint64_t partCount, int offsetBits, const char* scheme);
+  void measure(uint64_t part, const MultiresHierarchy& tree);
+  // `upper` is the hierarchy above the parts (MhBuilder fed the parts' roots alone): lays it
+  // out around the measured blocks and grows the scales that need it. True when none grew and
+  // the parts are to be written, false when they are to be measured again.
+  bool settle(const MultiresHierarchy& upper);
+  void write(uint64_t part, const MultiresHierarchy& tree);
+  OffsetQuadtree finish();
+
+ private:
+  struct Block {
+    uint64_t position = 0, start = 0;  // of the part's root, and of its children's pack
+    MhChild kind = MhChild::None;
+  };
+  int levels_, partLevel_, offsetBits_;
+  const char* scheme_;
+  std::vector<uint32_t> scales_;
+  std::vector<uint64_t> needed_;      // by level, below the part level, from this round's parts
+  std::vector<uint64_t> blockWords_;  // by part
+  std::vector<Block> blocks_;         // by part, once the scales are final
+  MhChild rootKind_ = MhChild::Leaf;
+  std::vector<uint32_t> words_;
+};
+
 // The word position of every node laid out without merged subtrees and with every scale 1: MMH's
 // conservative bound on a merged offset (SBE16b §3.3: merging only shortens distances).
 std::vector<uint64_t> unmergedPositions(const MultiresHierarchy& hierarchy);

@@ -46,8 +46,9 @@ inline std::unique_ptr<Decoder> mergeParts(const SyntheticMap& map, const Scheme
                                            BuildContext& context) {
   auto merger =
       scheme.makePartMerger(map.info(scheme.kind), scheme.resolve(params), {tileSize, partSize});
-  addParts(*merger, payloads, partSize, context);
-  return merger->finish(context);
+  return mergePayloads(
+      *merger, payloads.size(), partSize,
+      [&](uint64_t index) -> std::span<const uint8_t> { return payloads[index]; }, context);
 }
 
 }  // namespace sb::testing

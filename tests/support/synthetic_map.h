@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "schemes/interface/morton.h"
@@ -22,6 +24,22 @@ class NullBuildContext final : public BuildContext {
   void phase(std::string_view) override {}
   void count(std::string_view, uint64_t) override {}
 };
+
+// Merges part payloads as the harness does: every part in index order, once per pass the merger
+// asks for, each payload read to its end; then finish.
+inline std::unique_ptr<Decoder> mergePayloads(
+    PartMerger& merger, uint64_t count, uint32_t partSize,
+    const std::function<std::span<const uint8_t>(uint64_t index)>& payloadOf,
+    BuildContext& context) {
+  do {
+    for (uint64_t index = 0; index < count; ++index) {
+      ByteReader in(payloadOf(index));
+      merger.add(MapPart::of(index, partSize), in, context);
+      in.expectEnd();
+    }
+  } while (merger.anotherPass(context));
+  return merger.finish(context);
+}
 
 struct SyntheticMap {
   uint32_t resolution = 0;
@@ -126,12 +144,9 @@ struct SyntheticMap {
     auto merger =
         scheme.makePartMerger(info(scheme.kind), scheme.resolve(params), {tileSize, partSize});
     const auto payloads = partPayloads(scheme, params, tileSize, partSize);
-    for (uint64_t index = 0; index < payloads.size(); ++index) {
-      ByteReader in(payloads[index]);
-      merger->add(MapPart::of(index, partSize), in, context);
-      in.expectEnd();
-    }
-    return merger->finish(context);
+    return mergePayloads(
+        *merger, payloads.size(), partSize,
+        [&](uint64_t index) -> std::span<const uint8_t> { return payloads[index]; }, context);
   }
 };
 
