@@ -24,41 +24,6 @@ bool hasValue(MhChild type) {
   return type == MhChild::Full || type == MhChild::Leaf;
 }
 
-// §3.1: each node content stored once. Sequences of words, concatenated in the order they were
-// first added; a sequence is found by its full content.
-class UniqueWords {
- public:
-  // The word offset of a stored sequence equal to `words`, else of `words`, appended.
-  uint32_t findOrAdd(std::span<const uint32_t> words) {
-    uint64_t hash = mixBits(words.size());
-    for (const uint32_t word : words) hash = mixBits(hash ^ word);
-    const auto [id, added] = index_.findOrAdd(hash, [&](uint32_t other) {
-      const Entry& entry = entries_[other];
-      return entry.length == words.size() &&
-             std::equal(words.begin(), words.end(), words_.begin() + entry.offset);
-    });
-    if (!added) return entries_[id].offset;
-    if (words_.size() + words.size() > ~uint32_t(0))
-      throw std::runtime_error("dag-mh: the DAG exceeds 2^32 words");
-    const uint32_t offset = uint32_t(words_.size());
-    entries_.push_back({offset, uint32_t(words.size())});
-    words_.insert(words_.end(), words.begin(), words.end());
-    return offset;
-  }
-
-  size_t count() const { return entries_.size(); }
-  std::vector<uint32_t> release() { return std::move(words_); }
-
- private:
-  struct Entry {
-    uint32_t offset, length;
-  };
-
-  std::vector<uint32_t> words_;
-  std::vector<Entry> entries_;  // id → its words
-  HashConsIndex index_;
-};
-
 void packSkipEntry(const Traversal& at, uint32_t* entry) {
   if (at.kind == Traversal::kNone) {
     entry[0] = 0, entry[1] = 0, entry[2] = at.lastValue, entry[3] = 0;
@@ -123,142 +88,203 @@ std::vector<uint8_t> dropUnreachable(Dag& dag) {
 
 }  // namespace
 
-DagBuild buildDag(const MultiresHierarchy& hierarchy, int treeletHeight, int skipLevel) {
-  const std::vector<MhNode>& nodes = hierarchy.nodes;
-  const uint32_t root = hierarchy.root();
-  DagBuild built;
-  Dag& dag = built.dag;
-  dag.levels = hierarchy.levels;
-  dag.treelet = TreeletShape::of(treeletHeight);
-  dag.skipLevel = std::min(skipLevel, hierarchy.levels);
+// §3.1: each node content stored once. Sequences of words, concatenated in the order they were
+// first added; a sequence is found by its full content.
+class DagBuilder::UniqueWords {
+ public:
+  // The word offset of a stored sequence equal to `words`, else of `words`, appended.
+  uint32_t findOrAdd(std::span<const uint32_t> words) {
+    uint64_t hash = mixBits(words.size());
+    for (const uint32_t word : words) hash = mixBits(hash ^ word);
+    const auto [id, added] = index_.findOrAdd(hash, [&](uint32_t other) {
+      const Entry& entry = entries_[other];
+      return entry.length == words.size() &&
+             std::equal(words.begin(), words.end(), words_.begin() + entry.offset);
+    });
+    if (!added) return entries_[id].offset;
+    if (words_.size() + words.size() > ~uint32_t(0))
+      throw std::runtime_error("dag-mh: the DAG exceeds 2^32 words");
+    const uint32_t offset = uint32_t(words_.size());
+    entries_.push_back({offset, uint32_t(words.size())});
+    words_.insert(words_.end(), words.begin(), words.end());
+    return offset;
+  }
 
-  // Levels each node's subtree spans and the values of its descendants, children first (they
-  // precede their parents in `nodes`).
-  std::vector<uint8_t> height(nodes.size(), 1);
-  std::vector<uint64_t> descendants(nodes.size(), 0);
-  for (uint32_t n = 0; n < nodes.size(); ++n)
+  size_t count() const { return entries_.size(); }
+  std::vector<uint32_t> release() { return std::move(words_); }
+
+ private:
+  struct Entry {
+    uint32_t offset, length;
+  };
+
+  std::vector<uint32_t> words_;
+  std::vector<Entry> entries_;  // id → its words
+  HashConsIndex index_;
+};
+
+DagBuilder::DagBuilder(int levels, int treeletHeight, int skipLevel)
+    : treelets_(std::make_unique<UniqueWords>()), innerNodes_(std::make_unique<UniqueWords>()) {
+  dag_.levels = levels;
+  dag_.treelet = TreeletShape::of(treeletHeight);
+  dag_.skipLevel = std::min(skipLevel, levels);
+  dag_.skipList.resize(Dag::kSkipEntryWords << (2 * dag_.skipLevel));
+  bitmap_.resize(dag_.treelet.words);
+}
+
+DagBuilder::~DagBuilder() = default;
+
+void DagBuilder::measure(std::span<const MhNode> nodes, TreeAttributes& a) {
+  for (uint32_t n = 0; n < nodes.size(); ++n) {
+    if (a.given[n]) continue;
+    a.height[n] = 1, a.descendants[n] = 0;
     for (int k = 0, c = 0; k < kMhChildren; ++k) {
       const MhChild type = nodes[n].child(k);
       if (type == MhChild::None) continue;
       const uint32_t child = nodes[n].firstChild + c++;
-      height[n] = std::max<uint8_t>(height[n], height[child] + 1);
-      descendants[n] += hasValue(type) + descendants[child];
+      a.height[n] = std::max<uint8_t>(a.height[n], a.height[child] + 1);
+      a.descendants[n] += hasValue(type) + a.descendants[child];
     }
-  const uint64_t valueCount = 1 + descendants[root];
-  if (valueCount > ValueChunks::kMaxValues)
-    throw std::runtime_error(
-        fmt::format("dag-mh: the hierarchy holds {} values, more than 32-bit value indices address",
-                    valueCount));
+  }
+}
 
-  // §3.2: a subtree spanning at most treeletHeight levels becomes a treelet, its nodes' bits set
-  // in depth-first order of the full quadtree.
-  UniqueWords treelets, innerNodes;
-  std::vector<uint32_t> bitmap(dag.treelet.words);
-  const auto fill = [&](const auto& self, uint32_t n, bool valued, int depth,
+uint32_t DagBuilder::treelet(std::span<const MhNode> nodes, const TreeAttributes& a, uint32_t n,
+                             bool valued) {
+  const TreeletShape& shape = dag_.treelet;
+  const auto fill = [&](const auto& self, uint32_t node, bool hasOwn, int depth,
                         uint32_t bit) -> void {
-    if (valued) dag.treelet.setValue(bitmap.data(), bit);
+    if (hasOwn) shape.setValue(bitmap_.data(), bit);
     for (int k = 0, c = 0; k < kMhChildren; ++k) {
-      const MhChild type = nodes[n].child(k);
+      const MhChild type = nodes[node].child(k);
       if (type == MhChild::None) continue;
-      self(self, nodes[n].firstChild + c++, hasValue(type), depth + 1,
-           bit + 1 + uint32_t(k) * dag.treelet.subtreeBits[depth + 1]);
+      self(self, nodes[node].firstChild + c++, hasValue(type), depth + 1,
+           bit + 1 + uint32_t(k) * shape.subtreeBits[depth + 1]);
     }
   };
-  const auto treeletOf = [&](uint32_t n, bool valued) {
-    std::fill(bitmap.begin(), bitmap.end(), 0u);
-    fill(fill, n, valued, 0, 0);
-    bitmap[0] |= uint32_t(valued + descendants[n]);  // the count, in the low countBits
-    return treelets.findOrAdd(bitmap) / dag.treelet.words;
-  };
+  std::fill(bitmap_.begin(), bitmap_.end(), 0u);
+  fill(fill, n, valued, 0, 0);
+  bitmap_[0] |= uint32_t(valued + a.descendants[n]);  // the count, in the low countBits
+  return treelets_->findOrAdd(bitmap_) / shape.words;
+}
 
+void DagBuilder::add(std::span<const MhNode> nodes, TreeAttributes& a) {
   // §3.1, §3.4: inner nodes bottom-up; the descendants' value count (not the node's own value,
   // which the parent's flag tells) lets a full and an empty node with equal subtrees share one.
   // A count over 24 bits is saturated and the node remembered: it is only an error if the node
   // stays reachable below the skip level (the skip list keeps 32-bit indices, §3.7).
-  std::vector<uint32_t> reference(nodes.size(), 0);  // inner node word offset or treelet index
-  std::vector<uint32_t> words, overflowing;
+  const int treeletHeight = dag_.treelet.height;
+  std::vector<uint32_t> words;
   for (uint32_t n = 0; n < nodes.size(); ++n) {
-    if (height[n] <= treeletHeight) continue;
-    words.assign(1, uint32_t(std::min<uint64_t>(descendants[n], kMaxInnerCount)) << 8);
+    if (a.given[n] || a.height[n] <= treeletHeight) continue;
+    words.assign(1, uint32_t(std::min<uint64_t>(a.descendants[n], kMaxInnerCount)) << 8);
     for (int k = 0, c = 0; k < kMhChildren; ++k) {
       const MhChild type = nodes[n].child(k);
       if (type == MhChild::None) continue;
       const uint32_t child = nodes[n].firstChild + c++;
       uint32_t flag = kTreeletChild;
-      if (height[child] <= treeletHeight) {
-        reference[child] = treeletOf(child, hasValue(type));
-        words.push_back(reference[child]);
-      } else {
+      if (a.height[child] <= treeletHeight)
+        a.reference[child] = treelet(nodes, a, child, hasValue(type));
+      else
         flag = type == MhChild::Full ? kFullInner : kEmptyInner;
-        words.push_back(reference[child]);
-      }
+      words.push_back(a.reference[child]);
       words[0] |= flag << (2 * k);
     }
-    reference[n] = innerNodes.findOrAdd(words);
-    if (descendants[n] > kMaxInnerCount) overflowing.push_back(reference[n]);
+    a.reference[n] = innerNodes_->findOrAdd(words);
+    if (a.descendants[n] > kMaxInnerCount) overflowing_.push_back(a.reference[n]);
   }
+}
 
-  const bool rootIsTreelet = height[root] <= treeletHeight;
-  Traversal start;
-  start.kind = rootIsTreelet ? Traversal::kTreelet : Traversal::kInner;
-  start.node = rootIsTreelet ? treeletOf(root, true) : reference[root];
-  start.valueStart = rootIsTreelet ? 0 : 1;  // the root's value is index 0
-  dag.innerNodes = innerNodes.release();
-  dag.treelets = treelets.release();
-
-  // §3.7: the traversal state at every node of the skip level, as Dag::descend would reach it,
-  // but walked on the hierarchy with its exact counts: the nodes above may hold more values
-  // than 24 bits count.
-  const uint32_t side = 1u << dag.skipLevel;
-  const int shift = dag.levels - dag.skipLevel;
-  dag.skipList.resize(Dag::kSkipEntryWords * side * side);
-  for (uint32_t cj = 0; cj < side; ++cj)
-    for (uint32_t ci = 0; ci < side; ++ci) {
-      Traversal at = start;
-      for (uint32_t n = root; at.kind == Traversal::kInner && at.level < dag.skipLevel;) {
-        const int c = mhChildIndex(ci << shift, cj << shift, dag.levels - at.level - 1);
-        const MhChild type = nodes[n].child(c);
-        if (type == MhChild::None) {
-          at.kind = Traversal::kNone;
-          break;
-        }
-        uint32_t child = nodes[n].firstChild;
-        for (int k = 0; k < c; ++k) {
-          const MhChild before = nodes[n].child(k);
-          if (before == MhChild::None) continue;
-          at.valueStart += uint32_t(hasValue(before) + descendants[child]);
-          ++child;
-        }
-        n = child, at.node = reference[child], ++at.level;
-        if (height[child] <= treeletHeight) {
-          at.kind = Traversal::kTreelet;
-        } else if (type == MhChild::Full) {
-          at.lastValue = at.valueStart++;
-        }
-      }
-      packSkipEntry(at, &dag.skipList[Dag::kSkipEntryWords * (size_t(cj) * side + ci)]);
+std::pair<Traversal, uint32_t> DagBuilder::walk(std::span<const MhNode> nodes,
+                                                const TreeAttributes& a, uint32_t n, Traversal at,
+                                                uint32_t x, uint32_t y, int stopLevel) const {
+  const int shift = dag_.levels - stopLevel;
+  while (at.kind == Traversal::kInner && at.level < stopLevel && !a.given[n]) {
+    const int c = mhChildIndex(x << shift, y << shift, dag_.levels - at.level - 1);
+    const MhChild type = nodes[n].child(c);
+    if (type == MhChild::None) {
+      at.kind = Traversal::kNone;
+      break;
     }
+    uint32_t child = nodes[n].firstChild;
+    for (int k = 0; k < c; ++k) {
+      const MhChild before = nodes[n].child(k);
+      if (before == MhChild::None) continue;
+      at.valueStart += uint32_t(hasValue(before) + a.descendants[child]);
+      ++child;
+    }
+    n = child, at.node = a.reference[child], ++at.level;
+    if (a.height[child] <= dag_.treelet.height)
+      at.kind = Traversal::kTreelet;
+    else if (type == MhChild::Full)
+      at.lastValue = at.valueStart++;
+  }
+  return {at, n};
+}
+
+void DagBuilder::setSkipEntry(uint32_t x, uint32_t y, const Traversal& at) {
+  packSkipEntry(at, &dag_.skipList[Dag::kSkipEntryWords * ((size_t(y) << dag_.skipLevel) + x)]);
+}
+
+Dag DagBuilder::finish() {
+  dag_.innerNodes = innerNodes_->release();
+  dag_.treelets = treelets_->release();
   const std::vector<uint8_t> kept =
-      dag.skipLevel > 0 ? dropUnreachable(dag) : std::vector<uint8_t>(dag.innerNodes.size(), 1);
-  for (const uint32_t node : overflowing)
+      dag_.skipLevel > 0 ? dropUnreachable(dag_) : std::vector<uint8_t>(dag_.innerNodes.size(), 1);
+  for (const uint32_t node : overflowing_)
     if (kept[node])
       throw std::runtime_error(fmt::format(
           "dag-mh: an inner node below skip level {} holds {} values or more, beyond its 24-bit "
           "count (§3.4); raise skip-level",
-          dag.skipLevel, kMaxInnerCount));
+          dag_.skipLevel, kMaxInnerCount));
+  return std::move(dag_);
+}
 
-  // The value list: depth-first pre-order of the nodes with a value.
-  built.values.reserve(valueCount);
-  std::vector<std::pair<uint32_t, bool>> stack{{root, true}};
+void forEachValue(std::span<const MhNode> nodes, uint32_t n, bool valued,
+                  const std::function<void(const KeyInterval&)>& visit) {
+  std::vector<std::pair<uint32_t, bool>> stack{{n, valued}};
   while (!stack.empty()) {
-    const auto [n, valued] = stack.back();
+    const auto [node, hasOwn] = stack.back();
     stack.pop_back();
-    if (valued) built.values.push_back(nodes[n].interval);
-    for (int k = kMhChildren - 1, c = MultiresHierarchy::childCount(nodes[n]); k >= 0; --k) {
-      const MhChild type = nodes[n].child(k);
-      if (type != MhChild::None) stack.emplace_back(nodes[n].firstChild + --c, hasValue(type));
+    if (hasOwn) visit(nodes[node].interval);
+    for (int k = kMhChildren - 1, c = MultiresHierarchy::childCount(nodes[node]); k >= 0; --k) {
+      const MhChild type = nodes[node].child(k);
+      if (type != MhChild::None) stack.emplace_back(nodes[node].firstChild + --c, hasValue(type));
     }
   }
+}
+
+Traversal DagBuilder::rootState(std::span<const MhNode> nodes, TreeAttributes& a, uint32_t root) {
+  Traversal start;
+  const bool rootIsTreelet = a.height[root] <= dag_.treelet.height;
+  if (rootIsTreelet) a.reference[root] = treelet(nodes, a, root, true);
+  start.kind = rootIsTreelet ? Traversal::kTreelet : Traversal::kInner;
+  start.node = a.reference[root];
+  start.valueStart = rootIsTreelet ? 0 : 1;  // the root's value is index 0
+  return start;
+}
+
+DagBuild buildDag(const MultiresHierarchy& hierarchy, int treeletHeight, int skipLevel) {
+  const std::span<const MhNode> nodes = hierarchy.nodes;
+  const uint32_t root = hierarchy.root();
+  TreeAttributes attributes(nodes.size());
+  DagBuilder::measure(nodes, attributes);
+  const uint64_t valueCount = 1 + attributes.descendants[root];
+  if (valueCount > ValueChunks::kMaxValues)
+    throw std::runtime_error(
+        fmt::format("dag-mh: the hierarchy holds {} values, more than 32-bit value indices address",
+                    valueCount));
+  DagBuilder builder(hierarchy.levels, treeletHeight, skipLevel);
+  builder.add(nodes, attributes);
+  const Traversal start = builder.rootState(nodes, attributes, root);
+  const int skip = builder.dag().skipLevel;
+  for (uint32_t y = 0; y < (1u << skip); ++y)
+    for (uint32_t x = 0; x < (1u << skip); ++x)
+      builder.setSkipEntry(x, y, builder.walk(nodes, attributes, root, start, x, y, skip).first);
+
+  DagBuild built;
+  built.dag = builder.finish();
+  built.values.reserve(valueCount);
+  forEachValue(nodes, root, true, [&](const KeyInterval& value) { built.values.push_back(value); });
   return built;
 }
 

@@ -6,6 +6,10 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include "schemes/dag-mh/treelet.h"
@@ -122,6 +126,61 @@ struct DagBuild {
   Dag dag;
   std::vector<KeyInterval> values;
 };
+
+// Per node of a tree handed to DagBuilder: what its parent and the skip list need of it.
+// Nodes marked `given` come with their attributes and without their children (in a merge of
+// parts, a part's root seen from the levels above it).
+struct TreeAttributes {
+  std::vector<uint8_t> height;        // levels the node's subtree spans, 1 for a leaf
+  std::vector<uint64_t> descendants;  // values below the node
+  std::vector<uint32_t> reference;    // inner node word offset, or treelet index
+  std::vector<uint8_t> given;
+  explicit TreeAttributes(size_t nodes)
+      : height(nodes, 1), descendants(nodes, 0), reference(nodes, 0), given(nodes, 0) {}
+};
+
+// The DAG grown tree by tree: a whole hierarchy at once, or a merge's parts one by one and then
+// the levels above them (dag_parts.h). Every inner node and treelet is stored once, whichever
+// tree it came from.
+class DagBuilder {
+ public:
+  DagBuilder(int levels, int treeletHeight, int skipLevel);
+  ~DagBuilder();
+
+  // Heights and descendant counts of the nodes that are not given, packs before parents.
+  static void measure(std::span<const MhNode> nodes, TreeAttributes& attributes);
+  // §3.1, §3.2, §3.4: stores the inner nodes of a measured tree and the treelets of their
+  // children; references of nodes that are not given.
+  void add(std::span<const MhNode> nodes, TreeAttributes& attributes);
+  // §3.2: the treelet of node n's subtree, stored once.
+  uint32_t treelet(std::span<const MhNode> nodes, const TreeAttributes& attributes, uint32_t n,
+                   bool valued);
+  // §3.7: from node n, reached in state `at`, towards the square (x, y) of level `stopLevel` (in
+  // that level's coordinates) as Dag::descend would, but with exact value counts. Stops early at
+  // a given node, returned beside the state.
+  std::pair<Traversal, uint32_t> walk(std::span<const MhNode> nodes,
+                                      const TreeAttributes& attributes, uint32_t n, Traversal at,
+                                      uint32_t x, uint32_t y, int stopLevel) const;
+  void setSkipEntry(uint32_t x, uint32_t y, const Traversal& at);
+  // The state lookups start in at the root, which is stored as a treelet if it is one.
+  Traversal rootState(std::span<const MhNode> nodes, TreeAttributes& attributes, uint32_t root);
+  // The DAG once every skip entry is set; throws as buildDag does.
+  Dag finish();
+
+  const Dag& dag() const { return dag_; }
+
+ private:
+  class UniqueWords;
+  Dag dag_;
+  std::unique_ptr<UniqueWords> treelets_, innerNodes_;
+  std::vector<uint32_t> overflowing_;  // inner nodes whose count saturated
+  std::vector<uint32_t> bitmap_;
+};
+
+// The value list's order, depth-first pre-order of the nodes with a value: calls `visit` with
+// each value interval below node n, and n's own first if `valued`.
+void forEachValue(std::span<const MhNode> nodes, uint32_t n, bool valued,
+                  const std::function<void(const KeyInterval&)>& visit);
 
 // §3.1, §3.2: the hierarchy's topology as a DAG, every inner node and treelet stored once;
 // `skipLevel` is clamped to the map's levels. Throws std::runtime_error naming dag-mh when an

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "schemes/dag-mh/dag.h"
+#include "schemes/dag-mh/dag_parts.h"
 #include "schemes/dag-mh/value_chunks.h"
 #include "schemes/interface/depth_decoder.h"
 #include "schemes/interface/serial.h"
@@ -18,18 +19,14 @@ namespace sb {
 namespace {
 
 using dag_mh::Dag;
+using dag_mh::DagShape;
 using dag_mh::ValueChunks;
 
-struct DagMhConfig {
-  int treeletHeight;
-  uint32_t chunkSize;
-  int skipLevel;  // clamped to the map's levels
-};
-
-DagMhConfig dagMhConfig(const MapInfo& map, const ParamValues& params) {
+DagShape dagShape(const MapInfo& map, const ParamValues& params) {
   const int levels = std::countr_zero(map.resolution);
-  return {int(params.integer("treelet-height")), uint32_t(params.integer("chunk-size")),
-          std::min(int(params.integer("skip-level")), levels)};
+  return {int(params.integer("treelet-height")),
+          std::min(int(params.integer("skip-level")), levels),
+          uint32_t(params.integer("chunk-size"))};
 }
 
 class DagMhDecoder final : public DepthDecoder<DagMhDecoder> {
@@ -65,22 +62,27 @@ class DagMhDecoder final : public DepthDecoder<DagMhDecoder> {
   ValueChunks values_;
 };
 
+std::unique_ptr<Decoder> dagMhDecoder(uint32_t resolution, Dag dag, ValueChunks values,
+                                      const dag_mh::ValueChunkStats& stats, BuildContext& context) {
+  context.count("inner nodes", dag.innerNodeCount());
+  context.count("treelets", dag.treeletCount());
+  context.count("values", values.valueCount());
+  context.count("values covered by representative", stats.covered);
+  context.count("factor values", stats.factors);
+  context.count("factor bits", stats.factorBits);
+  context.count("chunks", values.infoSize() / values.infoBytes());
+  return std::make_unique<DagMhDecoder>(resolution, std::move(dag), std::move(values));
+}
+
 std::unique_ptr<Decoder> encodeDagMh(MultiresHierarchy hierarchy, uint32_t resolution,
-                                     DagMhConfig config, BuildContext& context) {
+                                     DagShape config, BuildContext& context) {
   context.phase("dag");
   dag_mh::DagBuild built = dag_mh::buildDag(hierarchy, config.treeletHeight, config.skipLevel);
   hierarchy = {};  // the values phase needs only the DAG and the value intervals
   context.phase("values");
   dag_mh::ValueChunkStats stats;
   ValueChunks values(built.values, config.chunkSize, &stats);
-  context.count("inner nodes", built.dag.innerNodeCount());
-  context.count("treelets", built.dag.treeletCount());
-  context.count("values", built.values.size());
-  context.count("values covered by representative", stats.covered);
-  context.count("factor values", stats.factors);
-  context.count("factor bits", stats.factorBits);
-  context.count("chunks", values.infoSize() / values.infoBytes());
-  return std::make_unique<DagMhDecoder>(resolution, std::move(built.dag), std::move(values));
+  return dagMhDecoder(resolution, std::move(built.dag), std::move(values), stats, context);
 }
 
 SchemeInfo dagMh() {
@@ -107,9 +109,10 @@ SchemeInfo dagMh() {
   // The hierarchy (16 bytes a node) is built whole, then per node a height, a descendant count
   // and a DAG reference (13 bytes), and the value intervals (8 bytes each). Hierarchies keep a
   // fraction of the texels as nodes (a tenth on the full city), and the format caps values at
-  // 2^24.
+  // 2^24. A merge of parts holds the DAG and the chunked values it grows (at most 6 bytes a
+  // node) and one part with its attributes (14 bytes a node: dag_parts.h).
   setMhBuilds(info, {[](const MapInfo& map, const ParamValues& params) -> HierarchyEncode {
-                       return [resolution = map.resolution, config = dagMhConfig(map, params)](
+                       return [resolution = map.resolution, config = dagShape(map, params)](
                                   MultiresHierarchy hierarchy, BuildContext& context) {
                          return encodeDagMh(std::move(hierarchy), resolution, config, context);
                        };
@@ -118,13 +121,23 @@ SchemeInfo dagMh() {
                        return std::min<uint64_t>(map.texelCount() / 2, uint64_t(1) << 26) * 32;
                      },
                      21,
-                     {}});
+                     {[](const MapInfo& map, const ParamValues& params, uint32_t partSize) {
+                        return dag_mh::dagPartMerger(
+                            map, partSize, dagShape(map, params),
+                            [resolution = map.resolution](Dag dag, ValueChunks values,
+                                                          const dag_mh::ValueChunkStats& stats,
+                                                          BuildContext& context) {
+                              return dagMhDecoder(resolution, std::move(dag), std::move(values),
+                                                  stats, context);
+                            });
+                      },
+                      6, 14}});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues& params) -> std::unique_ptr<Decoder> {
     if (!validResolution(map.resolution))
       throw FormatError(
           fmt::format("dag-mh: resolution {} is not a valid map size", map.resolution));
-    const DagMhConfig config = dagMhConfig(map, params);
+    const DagShape config = dagShape(map, params);
     const auto expect = [&](const char* what, uint32_t wanted) {
       const uint32_t stored = in.get<uint32_t>(what);
       if (stored != wanted)

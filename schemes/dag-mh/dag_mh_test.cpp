@@ -428,6 +428,48 @@ TEST_CASE("dag-mh: the scheme answers inside the intervals for every parameter",
   }
 }
 
+// Issue 12: the merge of parts never holds the whole hierarchy (dag_parts.h); it must still store
+// every inner node, treelet, chunk and skip entry the whole build stores, and answer as it does.
+// Blocky maps make parts whose trees are treelets below the levels above (grafted at the end).
+TEST_CASE("dag-mh: a merge of parts stores what the whole build stores and answers alike",
+          "[dag-mh][parts]") {
+  const SchemeInfo& scheme = findScheme("dag-mh");
+  SyntheticMap blocky = SyntheticMap::random(64, DepthMode::Closed, 3);
+  for (uint32_t j = 0; j < 64; ++j)
+    for (uint32_t i = 0; i < 64; ++i) {
+      const size_t at = j * 64 + i, block = (j / 8) * 64 + (i / 8) * 8;
+      blocky.lo[at] = blocky.lo[block], blocky.hi[at] = blocky.hi[block];
+    }
+  for (const SyntheticMap& map : {SyntheticMap::random(64, DepthMode::Open, 31),
+                                  SyntheticMap::random(64, DepthMode::Static, 32), blocky}) {
+    std::vector<Query> queries;
+    for (uint32_t j = 0; j < 64; ++j)
+      for (uint32_t i = 0; i < 64; ++i)
+        for (const float z : {map.lo[j * 64 + i], std::nextafter(map.hi[j * 64 + i], 2.0f)})
+          queries.push_back({(i + 0.5f) / 64, (j + 0.5f) / 64, std::min(z, 1.0f)});
+    for (const char* treelet : {"2", "4", "5"})
+      for (const char* skip : {"0", "2", "6"})
+        for (const uint32_t partSize : {8u, 16u, 32u}) {
+          INFO(toString(map.mode) << " treelet-height " << treelet << " skip-level " << skip
+                                  << " parts of " << partSize);
+          const Params params{{"treelet-height", treelet}, {"skip-level", skip}};
+          const auto whole = map.build(scheme, params, 8);
+          const auto merged = map.buildInParts(scheme, params, 8, partSize);
+          CHECK(merged->size() == whole->size());
+          std::vector<float> expected(queries.size()), got(queries.size());
+          whole->lookup(queries, 1, expected);
+          merged->lookup(queries, 1, got);
+          CHECK(got == expected);
+          // The merged structure is one the loader accepts.
+          ByteWriter saved;
+          merged->save(saved);
+          ByteReader in(saved.bytes());
+          const auto loaded = scheme.load(in, map.info(scheme.kind), scheme.resolve(params));
+          in.expectEnd();
+        }
+  }
+}
+
 TEST_CASE("dag-mh: the encoder names its phases and counts its parts", "[dag-mh]") {
   const SchemeInfo& scheme = findScheme("dag-mh");
   CHECK(scheme.kind == SchemeKind::Depth);

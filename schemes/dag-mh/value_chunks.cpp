@@ -65,87 +65,103 @@ std::optional<uint32_t> findFactor(float cl, float cf, uint32_t maxFactor, float
 
 }  // namespace
 
-ValueChunks::ValueChunks(std::span<const KeyInterval> intervals, uint32_t chunkSize,
-                         ValueChunkStats* stats)
-    : chunkSize_(chunkSize),
-      chunkShift_(uint32_t(std::countr_zero(chunkSize))),
-      valueCount_(uint32_t(intervals.size())) {
+ValueChunks::ValueChunks(uint32_t chunkSize)
+    : chunkSize_(chunkSize), chunkShift_(uint32_t(std::countr_zero(chunkSize))) {
   if (!std::has_single_bit(chunkSize) || chunkSize < 16 || chunkSize > 128)
     throw std::invalid_argument(
         fmt::format("dag-mh: chunk size {} is not 16, 32, 64 or 128", chunkSize));
+}
+
+ValueChunks::ValueChunks(std::span<const KeyInterval> intervals, uint32_t chunkSize,
+                         ValueChunkStats* stats)
+    : ValueChunks(chunkSize) {
   if (intervals.size() > kMaxValues)
     throw std::runtime_error(fmt::format(
         "dag-mh: {} values exceed what 32-bit value indices address", intervals.size()));
-  const size_t chunks = (intervals.size() + chunkSize - 1) / chunkSize;
-  infos_.assign(chunks * infoBytes(), 0);
+  for (size_t first = 0; first < intervals.size(); first += chunkSize)
+    encodeChunk(intervals.subspan(first, std::min<size_t>(chunkSize, intervals.size() - first)),
+                stats);
+}
+
+void ValueChunks::append(const KeyInterval& interval, ValueChunkStats* stats) {
+  filling_.push_back(interval);
+  if (filling_.size() == chunkSize_) close(stats);
+}
+
+void ValueChunks::close(ValueChunkStats* stats) {
+  if (!filling_.empty()) encodeChunk(filling_, stats);
+  filling_.clear();
+}
+
+void ValueChunks::encodeChunk(std::span<const KeyInterval> chunk, ValueChunkStats* stats) {
+  if (valueCount_ + chunk.size() > kMaxValues)
+    throw std::runtime_error(fmt::format(
+        "dag-mh: more than {} values exceed what 32-bit value indices address", kMaxValues));
+  valueCount_ += uint32_t(chunk.size());
+  infos_.resize(infos_.size() + infoBytes(), 0);
   std::vector<uint32_t> factors;
-  for (size_t c = 0; c < chunks; ++c) {
-    const std::span<const KeyInterval> chunk = intervals.subspan(
-        c * chunkSize, std::min<size_t>(chunkSize, intervals.size() - c * chunkSize));
-    uint8_t* info = infos_.data() + c * infoBytes();
-    const uint32_t representative = chooseRepresentative(chunk);
-    std::memcpy(info + kRepresentativeAt, &representative, 4);
+  uint8_t* info = infos_.data() + infos_.size() - infoBytes();
+  const uint32_t representative = chooseRepresentative(chunk);
+  std::memcpy(info + kRepresentativeAt, &representative, 4);
 
-    // The values the representative does not cover; the lowest lower bound v_l and the highest
-    // upper bound v_h among them span the factors. An open-ended interval (hi = +inf, the empty
-    // sky) is bounded at max(lo, 1) instead: still inside it, and it keeps c_f finite.
-    std::vector<KeyInterval> uncovered;
-    float vl = std::numeric_limits<float>::infinity(), vh = 0.0f;
-    for (uint32_t v = 0; v < chunk.size(); ++v) {
-      const KeyInterval& interval = chunk[v];
-      if (interval.lo <= representative && representative <= interval.hi) {
-        info[kCoverageAt + v / 8] |= uint8_t(1u << (v % 8));
-        continue;
-      }
-      uncovered.push_back(interval);
-      const float lo = depthOfKey(interval.lo);
-      vl = std::min(vl, lo);
-      vh = std::max(vh, std::min(depthOfKey(interval.hi), std::max(lo, 1.0f)));
+  // The values the representative does not cover; the lowest lower bound v_l and the highest
+  // upper bound v_h among them span the factors. An open-ended interval (hi = +inf, the empty
+  // sky) is bounded at max(lo, 1) instead: still inside it, and it keeps c_f finite.
+  std::vector<KeyInterval> uncovered;
+  float vl = std::numeric_limits<float>::infinity(), vh = 0.0f;
+  for (uint32_t v = 0; v < chunk.size(); ++v) {
+    const KeyInterval& interval = chunk[v];
+    if (interval.lo <= representative && representative <= interval.hi) {
+      info[kCoverageAt + v / 8] |= uint8_t(1u << (v % 8));
+      continue;
     }
+    uncovered.push_back(interval);
+    const float lo = depthOfKey(interval.lo);
+    vl = std::min(vl, lo);
+    vh = std::max(vh, std::min(depthOfKey(interval.hi), std::max(lo, 1.0f)));
+  }
 
-    // §3.3: c_l = v_l and c_f = (v_h − v_l)/(2^b − 1) for b = 8, 16, 24 in turn, until every
-    // uncovered interval holds a value c_l + c_f · i_v; else b = 32, the raw floats (a lower
-    // bound each).
-    float cl = 0.0f, cf = 0.0f;
-    uint32_t bytes = 4;
-    factors.clear();
-    if (uncovered.empty()) {
-      bytes = 1;
-    } else {
-      for (uint32_t b = 8; b <= 24 && bytes == 4; b += 8) {
-        const uint32_t maxFactor = (1u << b) - 1;
-        cl = vl;
-        cf = float((double(vh) - double(vl)) / double(maxFactor));
-        factors.clear();
-        for (const KeyInterval& interval : uncovered) {
-          const auto factor =
-              findFactor(cl, cf, maxFactor, depthOfKey(interval.lo), depthOfKey(interval.hi));
-          if (!factor) break;
-          factors.push_back(*factor);
-        }
-        if (factors.size() == uncovered.size()) bytes = b / 8;
+  // §3.3: c_l = v_l and c_f = (v_h − v_l)/(2^b − 1) for b = 8, 16, 24 in turn, until every
+  // uncovered interval holds a value c_l + c_f · i_v; else b = 32, the raw floats (a lower
+  // bound each).
+  float cl = 0.0f, cf = 0.0f;
+  uint32_t bytes = 4;
+  if (uncovered.empty()) {
+    bytes = 1;
+  } else {
+    for (uint32_t b = 8; b <= 24 && bytes == 4; b += 8) {
+      const uint32_t maxFactor = (1u << b) - 1;
+      cl = vl;
+      cf = float((double(vh) - double(vl)) / double(maxFactor));
+      factors.clear();
+      for (const KeyInterval& interval : uncovered) {
+        const auto factor =
+            findFactor(cl, cf, maxFactor, depthOfKey(interval.lo), depthOfKey(interval.hi));
+        if (!factor) break;
+        factors.push_back(*factor);
       }
-      if (bytes == 4) {
-        cl = cf = 0.0f;
-        factors.clear();
-        for (const KeyInterval& interval : uncovered) factors.push_back(interval.lo);
-      }
+      if (factors.size() == uncovered.size()) bytes = b / 8;
     }
-    std::memcpy(info + kFactorLowAt, &cl, 4);
-    std::memcpy(info + kFactorStepAt, &cf, 4);
-    if (factors_.size() + factors.size() * bytes > kMaxFactorBytes)
-      throw std::runtime_error(fmt::format(
-          "dag-mh: the factors exceed the {} bytes 30-bit offsets address", kMaxFactorBytes));
-    const uint32_t reference = uint32_t(factors_.size()) | (bytes - 1) << kFactorBytesShift;
-    std::memcpy(info + kFactorReferenceAt, &reference, 4);
-    for (const uint32_t factor : factors)
-      factors_.insert(factors_.end(), reinterpret_cast<const uint8_t*>(&factor),
-                      reinterpret_cast<const uint8_t*>(&factor) + bytes);
-    if (stats) {
-      stats->covered += chunk.size() - uncovered.size();
-      stats->factors += uncovered.size();
-      stats->factorBits += uncovered.size() * bytes * 8;
+    if (bytes == 4) {
+      cl = cf = 0.0f;
+      factors.clear();
+      for (const KeyInterval& interval : uncovered) factors.push_back(interval.lo);
     }
+  }
+  std::memcpy(info + kFactorLowAt, &cl, 4);
+  std::memcpy(info + kFactorStepAt, &cf, 4);
+  if (factors_.size() + factors.size() * bytes > kMaxFactorBytes)
+    throw std::runtime_error(fmt::format(
+        "dag-mh: the factors exceed the {} bytes 30-bit offsets address", kMaxFactorBytes));
+  const uint32_t reference = uint32_t(factors_.size()) | (bytes - 1) << kFactorBytesShift;
+  std::memcpy(info + kFactorReferenceAt, &reference, 4);
+  for (const uint32_t factor : factors)
+    factors_.insert(factors_.end(), reinterpret_cast<const uint8_t*>(&factor),
+                    reinterpret_cast<const uint8_t*>(&factor) + bytes);
+  if (stats) {
+    stats->covered += chunk.size() - uncovered.size();
+    stats->factors += uncovered.size();
+    stats->factorBits += uncovered.size() * bytes * 8;
   }
 }
 

@@ -52,6 +52,11 @@ class ValueChunks {
   ValueChunks() = default;
   // §3.3: chunks of `chunkSize` (16, 32, 64 or 128) values, each value inside its interval.
   ValueChunks(std::span<const KeyInterval> intervals, uint32_t chunkSize, ValueChunkStats* stats);
+  // An empty list grown value by value (a merge of parts): each chunk is encoded once it fills,
+  // the last one by close(); the result is the span constructor's.
+  explicit ValueChunks(uint32_t chunkSize);
+  void append(const KeyInterval& interval, ValueChunkStats* stats);
+  void close(ValueChunkStats* stats);
 
   uint32_t chunkSize() const { return chunkSize_; }
   uint32_t valueCount() const { return valueCount_; }
@@ -104,8 +109,12 @@ class ValueChunks {
     return bits & ((uint64_t(1) << count) - 1);
   }
 
+  // Encodes the next chunk (at most chunkSize_ values).
+  void encodeChunk(std::span<const KeyInterval> chunk, ValueChunkStats* stats);
+
   uint32_t chunkSize_ = 0, chunkShift_ = 0, valueCount_ = 0;
   std::vector<uint8_t> infos_, factors_;
+  std::vector<KeyInterval> filling_;  // append(): the values of the chunk not yet encoded
 };
 
 }  // namespace sb::dag_mh

@@ -42,11 +42,15 @@ SchemeInfo mh() {
   info.kind = SchemeKind::Depth;
   // The encode step keeps per node its value (4 bytes), its position, level and kind in the
   // layout (10) and at least a word of the structure (4). A merge of parts lays the structure
-  // out part by part and holds only its words.
+  // out part by part: it holds the structure's words (two a node at most, padding aside) and one
+  // part with its layout (a position, level, kind and value a node).
   setMhBuilds(info, {[](const MapInfo&, const ParamValues&) -> HierarchyEncode { return encodeMh; },
                      MhBuilder::hierarchyFloorBytes,
                      18,
-                     {mhDecoder, kOffsetBits}});
+                     {[](const MapInfo& map, const ParamValues&, uint32_t partSize) {
+                        return partwiseMhMerger(map, "mh", partSize, kOffsetBits, mhDecoder);
+                      },
+                      8, 14}});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<MhDecoder>(OffsetQuadtree::load(in, map, "mh"));

@@ -9,6 +9,30 @@
 #include <fmt/format.h>
 
 namespace sb {
+
+void expectPart(const std::string& scheme, uint64_t next, uint32_t partSize, const MapPart& part) {
+  const MapPart expected = MapPart::of(next, partSize);
+  if (part.index != expected.index || part.size != expected.size || part.x0 != expected.x0 ||
+      part.y0 != expected.y0)
+    throw std::invalid_argument(
+        fmt::format("{}: part {} ({}² at ({}, {})) given where part {} ({}² at ({}, {})) is next",
+                    scheme, part.index, part.size, part.x0, part.y0, expected.index, expected.size,
+                    expected.x0, expected.y0));
+}
+
+uint32_t checkedPartSize(const std::string& scheme, uint32_t partSize, const MapInfo& map) {
+  if (!std::has_single_bit(partSize) || partSize >= map.resolution)
+    throw std::invalid_argument(fmt::format("{}: part size {} is not a power of two below {}",
+                                            scheme, partSize, map.resolution));
+  return partSize;
+}
+
+std::vector<MhNode> partTree(MhBuilder::PartHierarchy hierarchy) {
+  const MhBuilder::Pending& root = hierarchy.root;
+  hierarchy.nodes.push_back({root.interval, root.firstChild, root.childFlags});
+  return std::move(hierarchy.nodes);
+}
+
 namespace {
 
 // depthKey(+inf): the largest key a depth has (DESIGN §2: hi may be +inf, never NaN).
@@ -141,24 +165,6 @@ class MhPartEncoder final : public PartEncoder {
   bool started_ = false;
 };
 
-// Checks that `part` is the one expected next: parts arrive in index order, every pass.
-void expectPart(const std::string& scheme, uint64_t next, uint32_t partSize, const MapPart& part) {
-  const MapPart expected = MapPart::of(next, partSize);
-  if (part.index != expected.index || part.size != expected.size || part.x0 != expected.x0 ||
-      part.y0 != expected.y0)
-    throw std::invalid_argument(
-        fmt::format("{}: part {} ({}² at ({}, {})) given where part {} ({}² at ({}, {})) is next",
-                    scheme, part.index, part.size, part.x0, part.y0, expected.index, expected.size,
-                    expected.x0, expected.y0));
-}
-
-uint32_t checkedPartSize(const std::string& scheme, uint32_t partSize, const MapInfo& map) {
-  if (!std::has_single_bit(partSize) || partSize >= map.resolution)
-    throw std::invalid_argument(fmt::format("{}: part size {} is not a power of two below {}",
-                                            scheme, partSize, map.resolution));
-  return partSize;
-}
-
 class MhPartMerger final : public PartMerger {
  public:
   MhPartMerger(const MapInfo& map, std::string scheme, uint32_t partSize, HierarchyEncode encode)
@@ -192,21 +198,23 @@ class MhPartMerger final : public PartMerger {
   uint64_t nextPart_ = 0;
 };
 
-// The merge of `mh` (MhEncoding::partwise): the first pass feeds the parts' roots to the
-// builder of the levels above them and measures every part's block; each further pass measures
-// again until the scales settle, and the last writes every part's block into the structure.
+// partwiseMhMerger: the first pass feeds the parts' roots to the builder of the levels above
+// them and measures every part's block; each further pass measures again until the scales
+// settle, and the last writes every part's block into the structure.
 class PartwiseMhMerger final : public PartMerger {
  public:
-  PartwiseMhMerger(const MapInfo& map, std::string scheme, uint32_t partSize,
-                   MhEncoding::Partwise partwise)
+  using Decoding =
+      std::function<std::unique_ptr<Decoder>(OffsetQuadtree, const MhNodeCounts&, BuildContext&)>;
+  PartwiseMhMerger(const MapInfo& map, std::string scheme, uint32_t partSize, int offsetBits,
+                   Decoding decoder)
       : map_(map),
         scheme_(std::move(scheme)),
         partSize_(checkedPartSize(scheme_, partSize, map)),
-        partwise_(std::move(partwise)),
+        decoder_(std::move(decoder)),
         upperBuilder_(map),
         layout_(std::countr_zero(map.resolution),
                 std::countr_zero(map.resolution) - std::countr_zero(partSize_),
-                MapPart::countFor(map, partSize_), partwise_.offsetBits, scheme_.c_str()) {}
+                MapPart::countFor(map, partSize_), offsetBits, scheme_.c_str()) {}
 
   void add(const MapPart& part, ByteReader& payload, BuildContext& context) override {
     expectPart(scheme_, nextPart_, partSize_, part);
@@ -215,10 +223,8 @@ class PartwiseMhMerger final : public PartMerger {
     if (!upper_) upperBuilder_.consume(part, {{}, hierarchy.root});
     if (writing_)
       for (const MhNode& node : hierarchy.nodes) counts_.addChildrenOf(node);
-    MultiresHierarchy tree{map_.resolution, std::countr_zero(map_.resolution),
-                           std::move(hierarchy.nodes)};
-    const MhBuilder::Pending& root = hierarchy.root;
-    tree.nodes.push_back({root.interval, root.firstChild, root.childFlags});
+    const MultiresHierarchy tree{map_.resolution, std::countr_zero(map_.resolution),
+                                 partTree(std::move(hierarchy))};
     if (writing_)
       layout_.write(part.index, tree);
     else
@@ -244,7 +250,7 @@ class PartwiseMhMerger final : public PartMerger {
     for (const MhNode& node : upper_->nodes) counts_.addChildrenOf(node);
     counts_.addRoot(upper_->nodes.back());
     context.count("passes over the parts", passes_);
-    return partwise_.decoder(layout_.finish(), counts_, context);
+    return decoder_(layout_.finish(), counts_, context);
   }
 
  private:
@@ -258,7 +264,7 @@ class PartwiseMhMerger final : public PartMerger {
   MapInfo map_;
   std::string scheme_;
   uint32_t partSize_;
-  MhEncoding::Partwise partwise_;
+  Decoding decoder_;
   MhBuilder upperBuilder_;
   std::optional<MultiresHierarchy> upper_;  // the levels above the parts, after the first pass
   PartwiseLayout layout_;
@@ -269,6 +275,14 @@ class PartwiseMhMerger final : public PartMerger {
 };
 
 }  // namespace
+
+std::unique_ptr<PartMerger> partwiseMhMerger(
+    const MapInfo& map, std::string scheme, uint32_t partSize, int offsetBits,
+    std::function<std::unique_ptr<Decoder>(OffsetQuadtree, const MhNodeCounts&, BuildContext&)>
+        decoder) {
+  return std::make_unique<PartwiseMhMerger>(map, std::move(scheme), partSize, offsetBits,
+                                            std::move(decoder));
+}
 
 void writeMhPart(ByteWriter& out, const MapPart& part, const MhBuilder::PartHierarchy& hierarchy) {
   out.put<uint64_t>(part.index);
@@ -322,8 +336,7 @@ MhBuilder::PartHierarchy readMhPart(ByteReader& in, const MapPart& part,
 
 void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
   info.buildBytes = [wholeBuildBytes = encoding.wholeBuildBytes,
-                     perNode = encoding.encodeBytesPerNode,
-                     partwise = bool(encoding.partwise.decoder)](
+                     perNode = encoding.encodeBytesPerNode, streaming = encoding.streamingMerge](
                         const MapInfo& map, const ParamValues&, const BuildShape& shape) {
     if (!shape.inParts(map))
       return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) +
@@ -335,10 +348,9 @@ void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
     // Once the parts exist their payloads count the nodes: a part file is its nodes' records
     // (kMhPartNodeBytes each) and a header; the merged hierarchy keeps every one of them.
     const BuildShape::PartFiles& files = shape.partFiles;
-    // The partwise merge holds the structure's words (two a node at most, padding aside) and one
-    // part with its layout (a position, level, kind and value a node).
-    const uint64_t mergedPerNode = partwise ? 8 : sizeof(MhNode) + perNode;
-    const uint64_t partPerNode = kPartNodeBytes + (partwise ? 14 : 0);
+    const uint64_t mergedPerNode =
+        streaming.makeMerger ? streaming.bytesPerNode : sizeof(MhNode) + perNode;
+    const uint64_t partPerNode = kPartNodeBytes + streaming.partBytesPerNode;
     const uint64_t merge = files.totalBytes
                                ? files.totalBytes / kMhPartNodeBytes * mergedPerNode +
                                      files.largestBytes / kMhPartNodeBytes * partPerNode
@@ -356,11 +368,10 @@ void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
     return std::make_unique<MhPartEncoder>(map, part);
   };
   info.partPayload = "mh-part-hierarchy";
-  info.makePartMerger = [encodeFor, partwise = encoding.partwise, scheme = info.name](
+  info.makePartMerger = [encodeFor, streaming = encoding.streamingMerge, scheme = info.name](
                             const MapInfo& map, const ParamValues& params,
                             const BuildShape& shape) -> std::unique_ptr<PartMerger> {
-    if (partwise.decoder)
-      return std::make_unique<PartwiseMhMerger>(map, scheme, shape.partSize, partwise);
+    if (streaming.makeMerger) return streaming.makeMerger(map, params, shape.partSize);
     return std::make_unique<MhPartMerger>(map, scheme, shape.partSize, encodeFor(map, params));
   };
 }

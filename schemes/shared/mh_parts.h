@@ -41,15 +41,32 @@ struct MhEncoding {
   // the hierarchy's nodes (counted from the part files, or its floor before they exist), what
   // the merge of parts needs.
   uint64_t encodeBytesPerNode = 0;
-  // Set where the structure is an offset quadtree of the nodes' middles without merged subtrees
-  // (`mh`): the merge of parts then lays it out part by part (PartwiseLayout), reading the parts
-  // once per round of scales and never holding the whole hierarchy, and hands it to `decoder`.
-  struct Partwise {
-    std::function<std::unique_ptr<Decoder>(OffsetQuadtree, const MhNodeCounts&, BuildContext&)>
-        decoder;
-    int offsetBits = 0;
-  } partwise;
+  // Set where the scheme merges parts without ever holding the whole hierarchy (`mh`:
+  // partwiseMhMerger; `dag-mh`: dag_parts.h): its merger, and what that merge holds per node of
+  // the hierarchy (its share of the structure) and per node of the one part it reads.
+  struct StreamingMerge {
+    std::function<std::unique_ptr<PartMerger>(const MapInfo&, const ParamValues&,
+                                              uint32_t partSize)>
+        makeMerger;
+    uint64_t bytesPerNode = 0, partBytesPerNode = 0;
+  } streamingMerge;
 };
+
+// Checks of a merger's input shared by the MH family's mergers: the part size (a power of two
+// below R; returned) and that `part` is the one expected next (std::invalid_argument).
+uint32_t checkedPartSize(const std::string& scheme, uint32_t partSize, const MapInfo& map);
+void expectPart(const std::string& scheme, uint64_t next, uint32_t partSize, const MapPart& part);
+// A part's hierarchy as a tree: its stored nodes with its root appended last.
+std::vector<MhNode> partTree(MhBuilder::PartHierarchy hierarchy);
+
+// The merge of an offset quadtree of the nodes' middles without merged subtrees (`mh`): laid out
+// part by part (PartwiseLayout), the parts read once per round of scales, and handed to
+// `decoder`. The first pass also feeds the parts' roots alone to the builder of the levels above
+// them.
+std::unique_ptr<PartMerger> partwiseMhMerger(
+    const MapInfo& map, std::string scheme, uint32_t partSize, int offsetBits,
+    std::function<std::unique_ptr<Decoder>(OffsetQuadtree, const MhNodeCounts&, BuildContext&)>
+        decoder);
 
 // Fills in `info`'s buildBytes, makeEncoder, makePartEncoder and makePartMerger; `info.name`
 // names the scheme in errors. For a build in parts, buildBytes declares, by shape.step, one

@@ -45,6 +45,21 @@ KeyInterval MultiresHierarchy::texelInterval(uint32_t i, uint32_t j) const {
   return deepest;
 }
 
+std::map<uint32_t, uint64_t> MultiresHierarchy::nodesAtLevel(int level) const {
+  std::map<uint32_t, uint64_t> found;
+  const auto visit = [&](const auto& self, uint32_t n, int at, uint32_t x, uint32_t y) -> void {
+    if (at == level) {
+      found[n] = mortonCode(x, y);
+      return;
+    }
+    for (int k = 0; k < kMhChildren; ++k)
+      if (nodes[n].child(k) != MhChild::None)
+        self(self, childNode(nodes[n], k), at + 1, 2 * x + (k & 1), 2 * y + (k >> 1));
+  };
+  visit(visit, root(), 0, 0, 0);
+  return found;
+}
+
 namespace {
 
 // SBE16a §3: of four children, the largest group whose intervals share a point moves up. Among

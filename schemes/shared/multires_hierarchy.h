@@ -11,6 +11,7 @@
 #include <bit>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <span>
 #include <vector>
@@ -75,6 +76,9 @@ struct MultiresHierarchy {
   // The value interval of the deepest node with a value on texel (i, j)'s path: what every
   // lookup of the hierarchy answers (SBE16a §4). For tests and the schemes' builders.
   KeyInterval texelInterval(uint32_t i, uint32_t j) const;
+  // The stored nodes of `level` (not below a leaf), each with its square's Morton index among
+  // the level's squares: in a merge of parts' roots, which part each root of the part level is.
+  std::map<uint32_t, uint64_t> nodesAtLevel(int level) const;
 };
 
 // Stored nodes by kind (SBE16a's counts): each node counted by its parent's flag, the root by

@@ -9,8 +9,6 @@
 
 #include <fmt/format.h>
 
-#include "schemes/interface/morton.h"
-
 namespace sb {
 
 namespace {
@@ -231,21 +229,7 @@ void PartwiseLayout::measure(uint64_t part, const MultiresHierarchy& tree) {
 }
 
 bool PartwiseLayout::settle(const MultiresHierarchy& upper) {
-  // The part below each node of the part level: its Morton index among the parts.
-  std::map<uint32_t, uint64_t> partOf;
-  const auto visit = [&](const auto& self, uint32_t n, int level, uint32_t x, uint32_t y) -> void {
-    const MhNode& node = upper.nodes[n];
-    if (level == partLevel_) {
-      partOf[n] = mortonCode(x, y);
-      return;
-    }
-    for (int k = 0; k < kMhChildren; ++k)
-      if (node.child(k) != MhChild::None)
-        self(self, MultiresHierarchy::childNode(node, k), level + 1, 2 * x + (k & 1),
-             2 * y + (k >> 1));
-  };
-  visit(visit, upper.root(), 0, 0, 0);
-
+  const std::map<uint32_t, uint64_t> partOf = upper.nodesAtLevel(partLevel_);
   const Layout layout(upper, {}, scales_, wholeTree(upper),
                       {partLevel_, [&](uint32_t n) { return blockWords_.at(partOf.at(n)); }});
   ScaleNeeds needs(levels_);
