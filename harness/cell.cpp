@@ -241,9 +241,18 @@ Record mergeCell(const CellSpec& cell, const Scene& scene, const CellOptions& op
   checkCellsFit(resolved, cell);
   const DepthSource source(scene, sceneLight(scene, cell.lightIndex), cell.mode, cell.resolution);
   const PartsTarget target = targetOf(resolved[0], cell, scene, options);
-  const BuildOutcome built = mergeParts(target, cell.mode, cell.resolution, cell.shape());
+  const std::string label = labelOf(cell, scene, resolved[0].scheme->name);
+  std::optional<Progress> progress;
+  const BuildOutcome built = mergeParts(
+      target, cell.mode, cell.resolution, cell.shape(),
+      [&](uint64_t pass, uint64_t done, uint64_t total) {
+        if (done == 1)
+          progress.emplace(fmt::format("merge {} (pass {})", label, pass + 1), total, "parts");
+        progress->set(done);
+      });
+  progress.reset();
   return finishRecord(resolved[0].record, *resolved[0].scheme, built, scene, source, options,
-                      labelOf(cell, scene, resolved[0].scheme->name));
+                      label);
 }
 
 void mergeCells(std::span<const CellSpec> cells, const Scene& scene, const CellOptions& options,

@@ -170,8 +170,9 @@ PartsEncoded encodeParts(const DepthSource& source, std::span<const PartsTarget>
   return result;
 }
 
-BuildOutcome mergeParts(const PartsTarget& target, DepthMode mode, uint32_t resolution,
-                        const BuildShape& shape) {
+BuildOutcome mergeParts(
+    const PartsTarget& target, DepthMode mode, uint32_t resolution, const BuildShape& shape,
+    const std::function<void(uint64_t pass, uint64_t done, uint64_t total)>& progress) {
   const SchemeInfo& scheme = *target.build.scheme;
   BuildOutcome outcome;
   outcome.map = mapFor(scheme, mode, resolution);
@@ -229,6 +230,7 @@ BuildOutcome mergeParts(const PartsTarget& target, DepthMode mode, uint32_t reso
     } catch (const FormatError& error) {
       throw FormatError(fmt::format("part file '{}': {}", path.string(), error.what()));
     }
+    if (progress) progress(pass, index + 1, count);
     if (pass > 0) continue;
     outcome.depthSeconds += file.costs.depthSeconds;
     partsWall += file.costs.wallSeconds;

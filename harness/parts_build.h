@@ -48,8 +48,10 @@ PartsEncoded encodeParts(const DepthSource& source, std::span<const PartsTarget>
 // The target's structure from its part files, in part order; throws naming a missing part (and
 // how many are missing), and refuses a merge whose declared memory, from the part files' bytes
 // (BuildShape::partFiles), does not fit. Times, counters and peak memory are the parts' (summed;
-// the peak is the largest) with the merge's phases and peak added.
-BuildOutcome mergeParts(const PartsTarget& target, DepthMode mode, uint32_t resolution,
-                        const BuildShape& shape);
+// the peak is the largest) with the merge's phases and peak added. `progress` hears of every
+// part merged, per pass over the parts (PartMerger::anotherPass), counted from 0.
+BuildOutcome mergeParts(
+    const PartsTarget& target, DepthMode mode, uint32_t resolution, const BuildShape& shape,
+    const std::function<void(uint64_t pass, uint64_t done, uint64_t total)>& progress = {});
 
 }  // namespace sb
