@@ -106,12 +106,12 @@ SchemeInfo dagMh() {
                          "0 = the root alone; capped at log2 R",
                          6, 0, 10, {0, 6}),
   };
-  // The hierarchy (16 bytes a node) is built whole, then per node a height, a descendant count
-  // and a DAG reference (13 bytes), and the value intervals (8 bytes each). Hierarchies keep a
-  // fraction of the texels as nodes (a tenth on the full city), and the format caps values at
-  // 2^24. A merge of parts holds the DAG and the chunked values it grows (measured 2.0 bytes a
-  // node of the structure on the forest, 1.4 on the city, 2.3 with the hash tables: 5 declared)
-  // and one part with its attributes (14 bytes a node: dag_parts.h).
+  // A whole build holds the hierarchy (16 bytes a node), then per node a height, a descendant
+  // count, a DAG reference and a flag (14 bytes), and the value intervals (8 bytes each).
+  // Hierarchies keep a fraction of the texels as nodes (a tenth on the full city), and the
+  // format caps values at 2^24. A merge of parts holds the DAG and the chunked values it grows
+  // (measured 2.0 bytes a node of the structure on the forest, 1.4 on the city, 2.3 with the hash
+  // tables: 5 declared) and one part with its attributes (14 bytes a node: dag_parts.h).
   setMhBuilds(info, {[](const MapInfo& map, const ParamValues& params) -> HierarchyEncode {
                        return [resolution = map.resolution, config = dagShape(map, params)](
                                   MultiresHierarchy hierarchy, BuildContext& context) {
@@ -121,7 +121,6 @@ SchemeInfo dagMh() {
                      [](const MapInfo& map) {
                        return std::min<uint64_t>(map.texelCount() / 2, uint64_t(1) << 26) * 32;
                      },
-                     21,
                      {[](const MapInfo& map, const ParamValues& params, uint32_t partSize) {
                         return dag_mh::dagPartMerger(
                             map, partSize, dagShape(map, params),

@@ -40,13 +40,11 @@ SchemeInfo mh() {
   info.name = "mh";
   info.paper = "Scandolo, Bauszat & Eisemann 2016, compressed multiresolution hierarchies";
   info.kind = SchemeKind::Depth;
-  // The encode step keeps per node its value (4 bytes), its position, level and kind in the
-  // layout (10) and at least a word of the structure (4). A merge of parts lays the structure
-  // out part by part: it holds the structure's words (two a node at most, padding aside) and one
-  // part with its layout (a position, level, kind and value a node).
+  // A merge of parts lays the structure out part by part: it holds the structure's words (two a
+  // node at most, padding aside) and one part with its layout (a position, level, kind and value
+  // a node).
   setMhBuilds(info, {[](const MapInfo&, const ParamValues&) -> HierarchyEncode { return encodeMh; },
                      MhBuilder::hierarchyFloorBytes,
-                     18,
                      {[](const MapInfo& map, const ParamValues&, uint32_t partSize) {
                         return partwiseMhMerger(map, "mh", partSize, kOffsetBits, mhDecoder);
                       },

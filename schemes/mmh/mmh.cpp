@@ -44,10 +44,11 @@ SchemeInfo mmh() {
   info.params = {ParamSpec::integer(
       "search-distance", "entries of a collision list each subtree is tested against (SBE16b §3.2)",
       1000, 0, 100000000, {0, 10, 100, 250, 500, 1000, 2000, 5000, 10000})};
-  // The encode step keeps per node the matcher's parent, level, relative bounds and value,
-  // topology hash, height and depth-first entry (43 bytes), the unmerged position (8), pack
-  // state (1), shared child and value (8), the layout's position, level and kind (10) and at
-  // least a word of the structure (4).
+  // A merge of parts joins the whole hierarchy (16 bytes a node) and runs the encode step, which
+  // keeps per node the matcher's parent, level, relative bounds and value, topology hash, height
+  // and depth-first entry (43 bytes), the unmerged position (8), pack state (1), shared child and
+  // value (8), the layout's position, level and kind (10) and at least a word of the structure
+  // (4).
   setMhBuilds(info, {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
                        return [searchDistance = uint32_t(params.integer("search-distance"))](
                                   MultiresHierarchy hierarchy, BuildContext& context) {
@@ -55,8 +56,7 @@ SchemeInfo mmh() {
                        };
                      },
                      MhBuilder::hierarchyFloorBytes,
-                     74,
-                     {}});
+                     {{}, sizeof(MhNode) + 74, 0}});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<MmhDecoder>(OffsetQuadtree::load(in, map, "mmh"));

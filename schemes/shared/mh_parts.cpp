@@ -335,8 +335,7 @@ MhBuilder::PartHierarchy readMhPart(ByteReader& in, const MapPart& part,
 }
 
 void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
-  info.buildBytes = [wholeBuildBytes = encoding.wholeBuildBytes,
-                     perNode = encoding.encodeBytesPerNode, streaming = encoding.streamingMerge](
+  info.buildBytes = [wholeBuildBytes = encoding.wholeBuildBytes, merging = encoding.merge](
                         const MapInfo& map, const ParamValues&, const BuildShape& shape) {
     if (!shape.inParts(map))
       return MhBuilder::workingBytes(std::min(map.resolution, shape.tileSize)) +
@@ -346,15 +345,13 @@ void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
     const uint64_t encoder =
         MhBuilder::workingBytes(std::min(shape.partSize, shape.tileSize)) + partBytes;
     // Once the parts exist their payloads count the nodes: a part file is its nodes' records
-    // (kMhPartNodeBytes each) and a header; the merged hierarchy keeps every one of them.
+    // (kMhPartNodeBytes each) and a header.
     const BuildShape::PartFiles& files = shape.partFiles;
-    const uint64_t mergedPerNode =
-        streaming.makeMerger ? streaming.bytesPerNode : sizeof(MhNode) + perNode;
-    const uint64_t partPerNode = kPartNodeBytes + streaming.partBytesPerNode;
+    const uint64_t partPerNode = kPartNodeBytes + merging.partBytesPerNode;
     const uint64_t merge = files.totalBytes
-                               ? files.totalBytes / kMhPartNodeBytes * mergedPerNode +
+                               ? files.totalBytes / kMhPartNodeBytes * merging.bytesPerNode +
                                      files.largestBytes / kMhPartNodeBytes * partPerNode
-                               : nodesAtFloor(map.resolution) * mergedPerNode +
+                               : nodesAtFloor(map.resolution) * merging.bytesPerNode +
                                      nodesAtFloor(shape.partSize) * partPerNode;
     return shape.partsBytes(encoder, merge);
   };
@@ -368,10 +365,10 @@ void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
     return std::make_unique<MhPartEncoder>(map, part);
   };
   info.partPayload = "mh-part-hierarchy";
-  info.makePartMerger = [encodeFor, streaming = encoding.streamingMerge, scheme = info.name](
+  info.makePartMerger = [encodeFor, merging = encoding.merge, scheme = info.name](
                             const MapInfo& map, const ParamValues& params,
                             const BuildShape& shape) -> std::unique_ptr<PartMerger> {
-    if (streaming.makeMerger) return streaming.makeMerger(map, params, shape.partSize);
+    if (merging.makeMerger) return merging.makeMerger(map, params, shape.partSize);
     return std::make_unique<MhPartMerger>(map, scheme, shape.partSize, encodeFor(map, params));
   };
 }

@@ -37,19 +37,18 @@ struct MhEncoding {
   std::function<HierarchyEncode(const MapInfo&, const ParamValues&)> encodeFor;
   // A whole build's bytes beyond the tiles' working memory, the hierarchy included.
   std::function<uint64_t(const MapInfo&)> wholeBuildBytes;
-  // Bytes per hierarchy node that the encode step holds beside the hierarchy at its peak: with
-  // the hierarchy's nodes (counted from the part files, or its floor before they exist), what
-  // the merge of parts needs.
-  uint64_t encodeBytesPerNode = 0;
-  // Set where the scheme merges parts without ever holding the whole hierarchy (`mh`:
-  // partwiseMhMerger; `dag-mh`: dag_parts.h): its merger, and what that merge holds per node of
-  // the hierarchy (its share of the structure) and per node of the one part it reads.
-  struct StreamingMerge {
+  // The merge of parts, and what it holds per node of the hierarchy (counted from the part
+  // files, or its floor before they exist) and per node of the one part it reads beside its
+  // payload and nodes. Without `makeMerger` the merge joins the whole hierarchy and runs the
+  // encode step on it (`mmh`): per node the hierarchy's 16 bytes and the encode step's arrays.
+  // With it the scheme merges without ever holding the whole hierarchy (`mh`:
+  // partwiseMhMerger; `dag-mh`: dag_parts.h), and holds per node its share of the structure.
+  struct Merge {
     std::function<std::unique_ptr<PartMerger>(const MapInfo&, const ParamValues&,
                                               uint32_t partSize)>
         makeMerger;
     uint64_t bytesPerNode = 0, partBytesPerNode = 0;
-  } streamingMerge;
+  } merge;
 };
 
 // Checks of a merger's input shared by the MH family's mergers: the part size (a power of two
