@@ -20,10 +20,6 @@ uint32_t existingChildren(uint32_t header) {
   return uint32_t(std::popcount((flags | flags >> 1) & 0x55u));
 }
 
-bool hasValue(MhChild type) {
-  return type == MhChild::Full || type == MhChild::Leaf;
-}
-
 void packSkipEntry(const Traversal& at, uint32_t* entry) {
   if (at.kind == Traversal::kNone) {
     entry[0] = 0, entry[1] = 0, entry[2] = at.lastValue, entry[3] = 0;

@@ -12,10 +12,6 @@
 namespace sb::dag_mh {
 namespace {
 
-bool hasValue(MhChild type) {
-  return type == MhChild::Full || type == MhChild::Leaf;
-}
-
 class DagPartMerger final : public PartMerger {
  public:
   DagPartMerger(const MapInfo& map, uint32_t partSize, DagShape shape, DagDecoding decoder)
@@ -55,7 +51,7 @@ class DagPartMerger final : public PartMerger {
   }
 
   bool anotherPass(BuildContext&) override {
-    checkAllParts();
+    expectAllParts("dag-mh", next_, parts_.size());
     if (upper_) return false;
     upper_ = upperBuilder_.finish();
     partOf_ = upper_->nodesAtLevel(partLevel_);
@@ -99,7 +95,7 @@ class DagPartMerger final : public PartMerger {
   }
 
   std::unique_ptr<Decoder> finish(BuildContext& context) override {
-    checkAllParts();
+    expectAllParts("dag-mh", next_, parts_.size());
     if (!upper_) throw std::logic_error("dag-mh: the merge finished before its last pass");
     emitUpTo(parts_.size());
     values_.close(&stats_);
@@ -168,12 +164,6 @@ class DagPartMerger final : public PartMerger {
     KeyInterval value;
     uint64_t part = kNoPart;
   };
-
-  void checkAllParts() const {
-    if (next_ != parts_.size())
-      throw std::logic_error(
-          fmt::format("dag-mh: {} of the {} parts were merged", next_, parts_.size()));
-  }
 
   // §3.7: the skip entries of the squares inside the part, walked on from its root.
   void addSkipEntries(const MapPart& part, std::span<const MhNode> tree,

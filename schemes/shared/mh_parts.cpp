@@ -20,6 +20,12 @@ void expectPart(const std::string& scheme, uint64_t next, uint32_t partSize, con
                     expected.x0, expected.y0));
 }
 
+void expectAllParts(const std::string& scheme, uint64_t merged, uint64_t count) {
+  if (merged != count)
+    throw std::logic_error(
+        fmt::format("{}: {} of the {} parts were merged", scheme, merged, count));
+}
+
 uint32_t checkedPartSize(const std::string& scheme, uint32_t partSize, const MapInfo& map) {
   if (!std::has_single_bit(partSize) || partSize >= map.resolution)
     throw std::invalid_argument(fmt::format("{}: part size {} is not a power of two below {}",
@@ -182,10 +188,7 @@ class MhPartMerger final : public PartMerger {
   }
 
   std::unique_ptr<Decoder> finish(BuildContext& context) override {
-    const uint64_t parts = MapPart::countFor(map_, partSize_);
-    if (nextPart_ != parts)
-      throw std::logic_error(
-          fmt::format("{}: {} of the {} parts were merged", scheme_, nextPart_, parts));
+    expectAllParts(scheme_, nextPart_, MapPart::countFor(map_, partSize_));
     return encode_(builder_.finish(), context);
   }
 
@@ -233,7 +236,7 @@ class PartwiseMhMerger final : public PartMerger {
   }
 
   bool anotherPass(BuildContext& context) override {
-    checkAllParts();
+    expectAllParts(scheme_, nextPart_, MapPart::countFor(map_, partSize_));
     if (writing_) return false;
     if (!upper_) upper_ = upperBuilder_.finish();
     context.phase("layout");
@@ -244,7 +247,7 @@ class PartwiseMhMerger final : public PartMerger {
   }
 
   std::unique_ptr<Decoder> finish(BuildContext& context) override {
-    checkAllParts();
+    expectAllParts(scheme_, nextPart_, MapPart::countFor(map_, partSize_));
     if (!writing_)
       throw std::logic_error(fmt::format("{}: the merge finished before its last pass", scheme_));
     for (const MhNode& node : upper_->nodes) counts_.addChildrenOf(node);
@@ -254,13 +257,6 @@ class PartwiseMhMerger final : public PartMerger {
   }
 
  private:
-  void checkAllParts() const {
-    const uint64_t parts = MapPart::countFor(map_, partSize_);
-    if (nextPart_ != parts)
-      throw std::logic_error(
-          fmt::format("{}: {} of the {} parts were merged", scheme_, nextPart_, parts));
-  }
-
   MapInfo map_;
   std::string scheme_;
   uint32_t partSize_;

@@ -55,6 +55,8 @@ struct MhEncoding {
 // below R; returned) and that `part` is the one expected next (std::invalid_argument).
 uint32_t checkedPartSize(const std::string& scheme, uint32_t partSize, const MapInfo& map);
 void expectPart(const std::string& scheme, uint64_t next, uint32_t partSize, const MapPart& part);
+// Checks that all `count` parts arrived in a pass (std::logic_error otherwise).
+void expectAllParts(const std::string& scheme, uint64_t merged, uint64_t count);
 // A part's hierarchy as a tree: its stored nodes with its root appended last.
 std::vector<MhNode> partTree(MhBuilder::PartHierarchy hierarchy);
 

@@ -45,6 +45,11 @@ enum class MhChild : uint8_t {
   Leaf = 3,   // a value and no descendants
 };
 
+// Full and Leaf nodes hold a value; Empty and None nodes do not.
+inline bool hasValue(MhChild kind) {
+  return kind == MhChild::Full || kind == MhChild::Leaf;
+}
+
 // Children are numbered by their quadrant, k = 2·(y bit) + (x bit) at the child's level, so that
 // depth-first order is Morton order.
 constexpr int kMhChildren = 4;
