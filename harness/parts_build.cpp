@@ -206,7 +206,7 @@ BuildOutcome mergeParts(
   outcome.baselineRssBytes = currentRssBytes();
   const auto start = Clock::now();
   TimedBuildContext context("merge");
-  std::unique_ptr<PartMerger> merger = scheme.makePartMerger(outcome.map, outcome.params, shape);
+  std::unique_ptr<PartMerger> merger = scheme.makePartMerger(outcome.map, outcome.params, merge);
   std::map<std::string, double> partPhases;
   std::vector<std::string> partPhaseOrder;
   double partsWall = 0;

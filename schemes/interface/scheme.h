@@ -157,6 +157,7 @@ struct SchemeInfo {
   std::function<std::unique_ptr<PartEncoder>(const MapInfo&, const MapPart&, const ParamValues&,
                                              const BuildShape&)>
       makePartEncoder;
+  // The merge's shape carries its part files' sizes (BuildShape::partFiles).
   std::function<std::unique_ptr<PartMerger>(const MapInfo&, const ParamValues&, const BuildShape&)>
       makePartMerger;
   // Schemes whose part encoders write the same payload, whatever their parameters, name it alike

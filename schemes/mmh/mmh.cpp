@@ -21,9 +21,11 @@ using MmhDecoder = OffsetQuadtreeDecoder<OffsetQuadtree::Values::Relative>;
 std::unique_ptr<Decoder> encodeMmh(MultiresHierarchy hierarchy, uint32_t searchDistance,
                                    BuildContext& context) {
   context.phase("hash");
-  SubtreeMatcher matcher(hierarchy, {searchDistance, kMergeLevels, kOffsetBits});
-  context.phase("match");
-  const MergedHierarchy merged = matcher.match();
+  const MergedHierarchy merged = [&] {
+    SubtreeMatcher matcher(hierarchy, {searchDistance, kMergeLevels, kOffsetBits});
+    context.phase("match");
+    return matcher.match();
+  }();
   context.phase("serialise");
   const MatchingStatistics& s = merged.statistics;
   context.count("pairs tested", s.pairsTested);
@@ -44,11 +46,12 @@ SchemeInfo mmh() {
   info.params = {ParamSpec::integer(
       "search-distance", "entries of a collision list each subtree is tested against (SBE16b §3.2)",
       1000, 0, 100000000, {0, 10, 100, 250, 500, 1000, 2000, 5000, 10000})};
-  // A merge of parts joins the whole hierarchy (16 bytes a node) and runs the encode step, which
-  // keeps per node the matcher's parent, level, relative bounds and value, topology hash, height
-  // and depth-first entry (43 bytes), the unmerged position (8), pack state (1), shared child and
-  // value (8), the layout's position, level and kind (10) and at least a word of the structure
-  // (4).
+  // A merge of parts joins the whole hierarchy (16 bytes a node, reserved from the part files)
+  // and runs the encode step, whose largest moment is the layout: per node the matched values
+  // and shared children (8 bytes), the layout's position, level and kind (10) and the
+  // structure's words (at most two a node, 8). Matching holds less: the reconstructed keys,
+  // unmerged positions, shared children and values (16), the pack states (1) and, per pack that
+  // may merge, its entry and the bounds of its height's lists.
   setMhBuilds(info, {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
                        return [searchDistance = uint32_t(params.integer("search-distance"))](
                                   MultiresHierarchy hierarchy, BuildContext& context) {
@@ -56,7 +59,7 @@ SchemeInfo mmh() {
                        };
                      },
                      MhBuilder::hierarchyFloorBytes,
-                     {{}, sizeof(MhNode) + 74, 0}});
+                     {{}, sizeof(MhNode) + 26, 0}});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<MmhDecoder>(OffsetQuadtree::load(in, map, "mmh"));

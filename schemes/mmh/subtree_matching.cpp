@@ -13,8 +13,6 @@ namespace sb {
 
 namespace {
 
-constexpr uint32_t kNoParent = std::numeric_limits<uint32_t>::max();
-
 struct Interval {
   int64_t lo, hi;
   bool empty() const { return lo > hi; }
@@ -35,125 +33,118 @@ enum class PackState : uint8_t { Kept, Redirected, Removed };
 
 }  // namespace
 
-SubtreeMatcher::SubtreeMatcher(const MultiresHierarchy& hierarchy, const MatchingOptions& options)
+SubtreeMatcher::SubtreeMatcher(MultiresHierarchy& hierarchy, const MatchingOptions& options)
     : hierarchy_(hierarchy), options_(options) {
-  const size_t count = hierarchy.nodes.size();
-  parent_.assign(count, kNoParent);
-  level_.assign(count, 0);
-  relativeLo_.assign(count, 0), relativeHi_.assign(count, 0), value_.assign(count, 0);
-  topology_.assign(count, 0);
-  height_.assign(count, 0);
+  std::vector<MhNode>& nodes = hierarchy.nodes;
+  const size_t count = nodes.size();
+  reconstructed_.assign(count, 0);
 
   // SBE16b §3: every value relative to the reconstructed value of its parent, which starts as the
-  // middle of each node's own interval (what MH stores).
+  // middle of each node's own interval (what MH stores). The walk is depth-first, so the packs
+  // that may merge (below the top levels, §3.3) are found in depth-first order.
   const uint32_t root = hierarchy.root();
-  const KeyInterval& top = hierarchy.nodes[root].interval;
-  relativeLo_[root] = top.lo, relativeHi_[root] = top.hi, value_[root] = top.middle();
+  reconstructed_[root] = nodes[root].interval.middle();
   struct Visit {
     uint32_t node;
-    int64_t reconstructed;
+    int level;
   };
-  std::vector<Visit> stack{{root, value_[root]}};
+  std::vector<Visit> stack{{root, 0}};
   while (!stack.empty()) {
     const Visit visit = stack.back();
     stack.pop_back();
-    const MhNode& node = hierarchy.nodes[visit.node];
+    const MhNode& node = nodes[visit.node];
     if (!node.hasChildren()) continue;
-    depthFirst_.push_back(visit.node);
-    Visit children[kMhChildren];
-    int pushed = 0;
+    if (visit.level + options_.mergeLevels >= hierarchy.levels) candidates_.push_back(visit.node);
     uint32_t child = node.firstChild;
     for (int k = 0; k < kMhChildren; ++k) {
-      if (node.child(k) == MhChild::None) continue;
-      parent_[child] = visit.node;
-      level_[child] = uint8_t(level_[visit.node] + 1);
-      int64_t reconstructed = visit.reconstructed;
-      if (node.child(k) != MhChild::Empty) {
-        const KeyInterval& own = hierarchy.nodes[child].interval;
-        relativeLo_[child] = int64_t(own.lo) - visit.reconstructed;
-        relativeHi_[child] = int64_t(own.hi) - visit.reconstructed;
-        value_[child] = int64_t(own.middle()) - visit.reconstructed;
-        reconstructed = own.middle();
-      }
-      children[pushed++] = {child++, reconstructed};
+      const MhChild kind = node.child(k);
+      if (kind == MhChild::None) continue;
+      reconstructed_[child] =
+          hasValue(kind) ? nodes[child].interval.middle() : reconstructed_[visit.node];
+      ++child;
     }
-    while (pushed > 0) stack.push_back(children[--pushed]);
+    while (child-- > node.firstChild) stack.push_back({child, visit.level + 1});
   }
 
   // SBE16b Alg. 2: the topology hash and height of each subtree, bottom-up (packs are stored
-  // before their parents).
+  // before their parents), then the candidates in collision lists by height and topology.
+  std::vector<uint64_t> topology(count, 0);
+  std::vector<uint8_t> height(count, 0);
   for (uint32_t n = 0; n < count; ++n) {
-    const MhNode& node = hierarchy.nodes[n];
+    const MhNode& node = nodes[n];
     if (!node.hasChildren()) continue;
     uint64_t hash = mixBits(node.childFlags);
-    uint16_t height = 0;
+    uint8_t below = 0;
     for (uint32_t c = node.firstChild; c < node.firstChild + MultiresHierarchy::childCount(node);
          ++c) {
-      height = std::max<uint16_t>(height, height_[c]);
-      if (hierarchy.nodes[c].hasChildren()) hash = mixBits(hash * 31 + topology_[c]);
+      below = std::max(below, height[c]);
+      if (nodes[c].hasChildren()) hash = mixBits(hash * 31 + topology[c]);
     }
-    topology_[n] = hash;
-    height_[n] = uint16_t(height + 1);
+    topology[n] = hash;
+    height[n] = uint8_t(below + 1);
   }
+  std::stable_sort(candidates_.begin(), candidates_.end(), [&](uint32_t a, uint32_t b) {
+    if (height[a] != height[b]) return height[a] > height[b];
+    return topology[a] < topology[b];
+  });
+  for (size_t c = 0; c < candidates_.size(); ++c) {
+    const uint32_t pack = candidates_[c];
+    if (c == 0 || height[pack] != height[candidates_[c - 1]] ||
+        topology[pack] != topology[candidates_[c - 1]])
+      lists_.push_back({uint32_t(c), height[pack]});
+  }
+  lists_.push_back({uint32_t(candidates_.size()), 0});
 }
 
 MergedHierarchy SubtreeMatcher::match() {
-  const MultiresHierarchy& h = hierarchy_;
-  const size_t count = h.nodes.size();
-  const std::vector<uint64_t> positions = unmergedPositions(h);
+  std::vector<MhNode>& nodes = hierarchy_.nodes;
+  const size_t count = nodes.size();
+  const std::vector<uint32_t> positions = unmergedPositions(hierarchy_, "mmh");
   const uint64_t maxOffset = (uint64_t(1) << options_.offsetBits) - 1;
 
   MergedHierarchy merged;
   merged.sharedChildren.resize(count);
-  for (uint32_t n = 0; n < count; ++n) merged.sharedChildren[n] = h.nodes[n].firstChild;
+  for (uint32_t n = 0; n < count; ++n) merged.sharedChildren[n] = nodes[n].firstChild;
   std::vector<PackState> state(count, PackState::Kept);
 
-  // The packs that may merge: below the top levels (SBE16b §3.3), in collision lists by height
-  // and topology, each list in depth-first order (§3.1) for local matching.
-  std::vector<uint32_t> candidates;
-  for (uint32_t q : depthFirst_)
-    if (level_[q] + options_.mergeLevels >= h.levels) candidates.push_back(q);
-  std::stable_sort(candidates.begin(), candidates.end(), [&](uint32_t a, uint32_t b) {
-    if (height_[a] != height_[b]) return height_[a] > height_[b];
-    return topology_[a] < topology_[b];
-  });
-
-  // Per pack, the subtree's intervals in the pack's frame: relative to the reconstructed value
-  // of the pack's parent, adding the values of full nodes on the way down.
-  const auto forEachValued = [&](uint32_t pack, auto&& visit) {
-    struct Visit {
-      uint32_t node;
-      int64_t sum;
-    };
-    std::vector<Visit> stack{{pack, 0}};
+  // The aggregated bounds of a pack's subtree in the pack's frame: its nodes' intervals relative
+  // to the pack's reconstructed key. No pack below one of the current height has merged yet, so
+  // its subtree's intervals are all in one frame.
+  const auto boundsOf = [&](uint32_t pack) {
+    Bounds b;
+    const int64_t frame = reconstructed_[pack];
+    std::vector<uint32_t> stack{pack};
     while (!stack.empty()) {
-      const Visit at = stack.back();
+      const MhNode& node = nodes[stack.back()];
+      const uint32_t first = merged.sharedChildren[stack.back()];
       stack.pop_back();
-      const MhNode& node = h.nodes[at.node];
-      const uint32_t first = merged.sharedChildren[at.node];
       for (int k = 0, c = 0; k < kMhChildren; ++k) {
         const MhChild kind = node.child(k);
         if (kind == MhChild::None) continue;
         const uint32_t child = first + uint32_t(c++);
-        int64_t sum = at.sum;
-        if (kind != MhChild::Empty) {
-          visit(child, at.sum);
-          sum += value_[child];
+        if (hasValue(kind)) {
+          const KeyInterval& own = nodes[child].interval;
+          b.minLo = std::min(b.minLo, own.lo - frame), b.maxLo = std::max(b.maxLo, own.lo - frame);
+          b.minHi = std::min(b.minHi, own.hi - frame), b.maxHi = std::max(b.maxHi, own.hi - frame);
         }
-        if (kind != MhChild::Leaf) stack.push_back({child, sum});
+        if (kind != MhChild::Leaf) stack.push_back(child);
       }
     }
+    return b;
   };
 
   // The full test (and, with `commit`, the merge) of the packs under a and b, in lockstep. A
   // change of a full node's value shifts its children's relative intervals, tracked as the
-  // change of the reconstructed value in each occurrence (shiftA, shiftB); whether the
-  // intersections are empty does not depend on which value each node takes.
+  // change of the reconstructed key in each occurrence (shiftA, shiftB); whether the
+  // intersections are empty does not depend on which value each node takes. A merge narrows b's
+  // intervals to the intersections, in b's frame, and moves b's reconstructed keys.
   const auto lockstep = [&](auto&& self, uint32_t a, uint32_t b, int64_t shiftA, int64_t shiftB,
                             bool commit) -> bool {
-    const MhNode& nodeA = h.nodes[a];
-    const MhNode& nodeB = h.nodes[b];
+    const MhNode& nodeA = nodes[a];
+    const MhNode& nodeB = nodes[b];
     if (nodeA.childFlags != nodeB.childFlags) return false;
+    const int64_t frameA = int64_t(reconstructed_[a]) + shiftA;
+    const int64_t frameB = int64_t(reconstructed_[b]) + shiftB;
     const uint32_t firstA = merged.sharedChildren[a], firstB = merged.sharedChildren[b];
     for (int k = 0, c = 0; k < kMhChildren; ++k) {
       const MhChild kind = nodeA.child(k);
@@ -161,66 +152,58 @@ MergedHierarchy SubtreeMatcher::match() {
       const uint32_t childA = firstA + uint32_t(c), childB = firstB + uint32_t(c);
       ++c;
       int64_t nextA = shiftA, nextB = shiftB;
-      if (kind != MhChild::Empty) {
-        const Interval shared{std::max(relativeLo_[childA] - shiftA, relativeLo_[childB] - shiftB),
-                              std::min(relativeHi_[childA] - shiftA, relativeHi_[childB] - shiftB)};
+      if (hasValue(kind)) {
+        KeyInterval& ownA = nodes[childA].interval;
+        KeyInterval& ownB = nodes[childB].interval;
+        const Interval shared{std::max(ownA.lo - frameA, ownB.lo - frameB),
+                              std::min(ownA.hi - frameA, ownB.hi - frameB)};
         if (shared.empty()) return false;
         const int64_t value = shared.middle();
-        nextA += value - value_[childA];
-        nextB += value - value_[childB];
-        if (commit) {
-          relativeLo_[childB] = shared.lo, relativeHi_[childB] = shared.hi;
-          value_[childB] = value;
-        }
+        // The change of the reconstructed key: the new value, in the shifted frame, less the
+        // old one, in the frame before this merge.
+        nextA += value - (int64_t(ownA.middle()) - reconstructed_[a]);
+        nextB += value - (int64_t(ownB.middle()) - reconstructed_[b]);
+        if (commit) ownB = {uint32_t(shared.lo + frameB), uint32_t(shared.hi + frameB)};
       }
       if (kind != MhChild::Leaf && !self(self, childA, childB, nextA, nextB, commit)) return false;
+      // After the walk below, which reads childB's key as it was.
+      if (commit) reconstructed_[childB] = uint32_t(reconstructed_[childB] + nextB);
     }
     return true;
   };
 
   tbb::combinable<MatchingStatistics> statistics;
-  std::vector<Bounds> bounds(candidates.size());  // by candidate
+  std::vector<Bounds> bounds;  // by candidate of the current height
   // §3.2: heights from large to small, so that larger merges remove more before smaller ones
   // are tried; lists of one height share no node and are matched in parallel.
-  for (size_t first = 0; first < candidates.size();) {
+  for (size_t first = 0; first + 1 < lists_.size();) {
     size_t last = first;
-    while (last < candidates.size() && height_[candidates[last]] == height_[candidates[first]])
-      ++last;
-    tbb::parallel_for(first, last, [&](size_t c) {
-      const uint32_t pack = candidates[c];
-      if (state[pack] != PackState::Kept) return;
-      Bounds b;
-      forEachValued(pack, [&](uint32_t node, int64_t sum) {
-        b.minLo = std::min(b.minLo, relativeLo_[node] + sum);
-        b.maxLo = std::max(b.maxLo, relativeLo_[node] + sum);
-        b.minHi = std::min(b.minHi, relativeHi_[node] + sum);
-        b.maxHi = std::max(b.maxHi, relativeHi_[node] + sum);
-      });
-      bounds[c] = b;
+    while (last + 1 < lists_.size() && lists_[last].height == lists_[first].height) ++last;
+    const size_t begin = lists_[first].begin;
+    bounds.assign(lists_[last].begin - begin, {});
+    tbb::parallel_for(begin, size_t(lists_[last].begin), [&](size_t c) {
+      if (state[candidates_[c]] == PackState::Kept) bounds[c - begin] = boundsOf(candidates_[c]);
     });
-    std::vector<size_t> lists{first};
-    for (size_t c = first + 1; c < last; ++c)
-      if (topology_[candidates[c]] != topology_[candidates[c - 1]]) lists.push_back(c);
-    lists.push_back(last);
 
-    tbb::parallel_for(size_t(0), lists.size() - 1, [&](size_t list) {
+    tbb::parallel_for(first, last, [&](size_t list) {
       MatchingStatistics& local = statistics.local();
-      const size_t begin = lists[list], end = lists[list + 1];
+      const size_t end = lists_[list + 1].begin;
       // Alg. 3: back to front, so that the outer pack is never one already merged away; the
       // earlier pack of a pair is removed, so that offsets stay positive.
-      for (size_t i = end; i-- > begin;) {
-        const uint32_t earlier = candidates[i];
+      for (size_t i = end; i-- > lists_[list].begin;) {
+        const uint32_t earlier = candidates_[i];
         if (state[earlier] != PackState::Kept) continue;
         const size_t stop = std::min<size_t>(end, i + 1 + options_.searchDistance);
         for (size_t j = i + 1; j < stop; ++j) {
-          const uint32_t later = candidates[j];
+          const uint32_t later = candidates_[j];
           if (state[later] != PackState::Kept) continue;
           ++local.pairsTested;
-          if (bounds[i].disjointFrom(bounds[j])) {
+          if (bounds[i - begin].disjointFrom(bounds[j - begin])) {
             ++local.rejectedInterval;
             continue;
           }
-          if (positions[h.nodes[later].firstChild] - positions[earlier] > maxOffset) {
+          // A pack placed before `earlier` wraps to a distance beyond every offset.
+          if (uint32_t(positions[nodes[later].firstChild] - positions[earlier]) > maxOffset) {
             ++local.rejectedOffset;
             continue;
           }
@@ -232,20 +215,19 @@ MergedHierarchy SubtreeMatcher::match() {
           ++local.merges;
           std::vector<uint32_t> removed{earlier};
           while (!removed.empty()) {
-            const uint32_t node = removed.back();
+            const MhNode& inner = nodes[removed.back()];
             removed.pop_back();
-            const MhNode& inner = h.nodes[node];
             for (uint32_t c = inner.firstChild;
                  c < inner.firstChild + MultiresHierarchy::childCount(inner); ++c) {
               ++local.nodesRemoved;
-              if (h.nodes[c].hasChildren()) {
+              if (nodes[c].hasChildren()) {
                 state[c] = PackState::Removed;
                 removed.push_back(c);
               }
             }
           }
           state[earlier] = PackState::Redirected;
-          merged.sharedChildren[earlier] = h.nodes[later].firstChild;
+          merged.sharedChildren[earlier] = nodes[later].firstChild;
           break;
         }
       }
@@ -259,8 +241,15 @@ MergedHierarchy SubtreeMatcher::match() {
     a.merges += b.merges, a.nodesRemoved += b.nodesRemoved;
     return a;
   });
-  merged.values.resize(count);
-  for (uint32_t n = 0; n < count; ++n) merged.values[n] = uint32_t(value_[n]);
+  // Alg. 1: each surviving node stores its value relative to its parent's reconstructed key.
+  merged.values.assign(count, 0);
+  for (uint32_t n = 0; n < count; ++n) {
+    const MhNode& node = nodes[n];
+    for (uint32_t c = node.firstChild; c < node.firstChild + MultiresHierarchy::childCount(node);
+         ++c)
+      merged.values[c] = nodes[c].interval.middle() - reconstructed_[n];
+  }
+  merged.values[hierarchy_.root()] = nodes[hierarchy_.root()].interval.middle();
   return merged;
 }
 

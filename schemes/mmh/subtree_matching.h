@@ -37,23 +37,32 @@ struct MatchingOptions {
   int offsetBits = 24;
 };
 
-// The phases the harness times: values relative and hashed, then matched and merged.
+// The phases the harness times: values relative and hashed, then matched and merged. The
+// matcher keeps, beside the hierarchy, a few bytes a node (about 26 while matching), since a merge
+// of parts holds the whole hierarchy of a 256K² map: instead of relative intervals it narrows
+// the hierarchy's own intervals, each node's in the frame of the occurrence that survives, and
+// keeps each node's reconstructed key, from which relative values follow.
 class SubtreeMatcher {
  public:
-  SubtreeMatcher(const MultiresHierarchy& hierarchy, const MatchingOptions& options);
+  // `hierarchy` must outlive the matcher; merges narrow its nodes' intervals.
+  SubtreeMatcher(MultiresHierarchy& hierarchy, const MatchingOptions& options);
   MergedHierarchy match();
 
  private:
-  const MultiresHierarchy& hierarchy_;
+  // A collision list: the packs of one height and topology, in depth-first order (§3.1).
+  struct CollisionList {
+    uint32_t begin;  // in candidates_
+    uint8_t height;
+  };
+  MultiresHierarchy& hierarchy_;
   MatchingOptions options_;
-  std::vector<uint32_t> parent_;
-  std::vector<uint8_t> level_;
-  // Per node with a value: the interval its value may take and the value, both relative to the
-  // parent's reconstructed key, as exact integers.
-  std::vector<int64_t> relativeLo_, relativeHi_, value_;
-  std::vector<uint64_t> topology_;    // per inner node: hash of its descendants' flags
-  std::vector<uint16_t> height_;      // per node: levels below it (0 for a leaf)
-  std::vector<uint32_t> depthFirst_;  // inner nodes in depth-first order
+  // Per node: the key a lookup reconstructs at it (Alg. 1), the middle of its interval if it has
+  // a value, else its parent's. A node's relative interval is its interval minus its parent's
+  // reconstructed key.
+  std::vector<uint32_t> reconstructed_;
+  // The inner nodes whose packs may merge, list after list, heights from large to small.
+  std::vector<uint32_t> candidates_;
+  std::vector<CollisionList> lists_;  // and a last entry that ends them
 };
 
 }  // namespace sb

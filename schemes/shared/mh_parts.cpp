@@ -173,12 +173,18 @@ class MhPartEncoder final : public PartEncoder {
 
 class MhPartMerger final : public PartMerger {
  public:
-  MhPartMerger(const MapInfo& map, std::string scheme, uint32_t partSize, HierarchyEncode encode)
+  MhPartMerger(const MapInfo& map, std::string scheme, const BuildShape& shape,
+               HierarchyEncode encode)
       : map_(map),
         scheme_(std::move(scheme)),
-        partSize_(checkedPartSize(scheme_, partSize, map)),
+        partSize_(checkedPartSize(scheme_, shape.partSize, map)),
         builder_(map),
-        encode_(std::move(encode)) {}
+        encode_(std::move(encode)) {
+    // The part files' records count the parts' nodes; the levels above add fewer than two nodes
+    // a part.
+    builder_.reserve(shape.partFiles.totalBytes / kMhPartNodeBytes +
+                     2 * MapPart::countFor(map, partSize_));
+  }
 
   void add(const MapPart& part, ByteReader& payload, BuildContext& context) override {
     expectPart(scheme_, nextPart_, partSize_, part);
@@ -365,7 +371,7 @@ void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
                             const MapInfo& map, const ParamValues& params,
                             const BuildShape& shape) -> std::unique_ptr<PartMerger> {
     if (merging.makeMerger) return merging.makeMerger(map, params, shape.partSize);
-    return std::make_unique<MhPartMerger>(map, scheme, shape.partSize, encodeFor(map, params));
+    return std::make_unique<MhPartMerger>(map, scheme, shape, encodeFor(map, params));
   };
 }
 

@@ -136,6 +136,9 @@ class MhBuilder {
   // A part's hierarchy, validated (readMhPart); parts, like tiles, arrive in Morton order (part
   // index order). Throws std::invalid_argument.
   void consume(const MapPart& part, const PartHierarchy& hierarchy);
+  // Room for `nodes` nodes in all, for a merge that counts them from its part files: a vector
+  // left to grow doubles, holding up to twice the nodes' bytes, three times while it moves.
+  void reserve(uint64_t nodes) { hierarchy_.nodes.reserve(nodes); }
   // The map's hierarchy once every tile or part arrived (std::logic_error before).
   MultiresHierarchy finish();
   // A part builder's hierarchy once the part's tiles arrived (std::logic_error before).

@@ -199,9 +199,30 @@ OffsetQuadtree layoutOffsetQuadtree(const MultiresHierarchy& hierarchy,
   }
 }
 
-std::vector<uint64_t> unmergedPositions(const MultiresHierarchy& hierarchy) {
-  const std::vector<uint32_t> unscaled(size_t(std::max(hierarchy.levels, 1)), 1);
-  return std::move(Layout(hierarchy, {}, unscaled, wholeTree(hierarchy)).position);
+std::vector<uint32_t> unmergedPositions(const MultiresHierarchy& hierarchy, const char* scheme) {
+  std::vector<uint32_t> positions(hierarchy.nodes.size(), 0);
+  const uint32_t root = hierarchy.root();
+  uint64_t words = OffsetQuadtree::kindWords(hierarchy.nodes[root].hasChildren() ? MhChild::Full
+                                                                                 : MhChild::Leaf);
+  // Layout's placement with every scale 1: a pack right after the packs of its elder siblings'
+  // subtrees. Held in 32 bits, a third of Layout's bytes, since MMH keeps it beside the whole
+  // hierarchy while matching.
+  const auto place = [&](auto&& self, uint32_t parent) -> void {
+    const MhNode& node = hierarchy.nodes[parent];
+    uint32_t child = node.firstChild;
+    for (int k = 0; k < kMhChildren; ++k) {
+      if (node.child(k) == MhChild::None) continue;
+      positions[child++] = uint32_t(words);
+      words += OffsetQuadtree::kindWords(node.child(k));
+    }
+    if (words > std::numeric_limits<uint32_t>::max())
+      throw std::length_error(fmt::format(
+          "{}: the hierarchy takes more than 2^32 words laid out without merges", scheme));
+    for (uint32_t c = node.firstChild; c < child; ++c)
+      if (hierarchy.nodes[c].hasChildren()) self(self, c);
+  };
+  if (hierarchy.nodes[root].hasChildren()) place(place, root);
+  return positions;
 }
 
 PartwiseLayout::PartwiseLayout(int levels, int partLevel, uint64_t partCount, int offsetBits,

@@ -138,7 +138,8 @@ class PartwiseLayout {
 };
 
 // The word position of every node laid out without merged subtrees and with every scale 1: MMH's
-// conservative bound on a merged offset (SBE16b §3.3: merging only shortens distances).
-std::vector<uint64_t> unmergedPositions(const MultiresHierarchy& hierarchy);
+// conservative bound on a merged offset (SBE16b §3.3: merging only shortens distances). Throws
+// std::length_error naming `scheme` beyond 2^32 words.
+std::vector<uint32_t> unmergedPositions(const MultiresHierarchy& hierarchy, const char* scheme);
 
 }  // namespace sb
