@@ -153,7 +153,7 @@ MergedHierarchy SubtreeMatcher::match() {
       ++c;
       int64_t nextA = shiftA, nextB = shiftB;
       if (hasValue(kind)) {
-        KeyInterval& ownA = nodes[childA].interval;
+        const KeyInterval& ownA = nodes[childA].interval;
         KeyInterval& ownB = nodes[childB].interval;
         const Interval shared{std::max(ownA.lo - frameA, ownB.lo - frameB),
                               std::min(ownA.hi - frameA, ownB.hi - frameB)};

@@ -32,6 +32,16 @@ SyntheticMap repeatedMotif(uint64_t seed, uint32_t motifSize = 8) {
   return map;
 }
 
+// Texels whose lookup in `tree` falls outside their interval.
+uint64_t texelsOutside(const SyntheticMap& map, const OffsetQuadtree& tree) {
+  uint64_t wrong = 0;
+  for (uint32_t j = 0; j < map.resolution; ++j)
+    for (uint32_t i = 0; i < map.resolution; ++i)
+      wrong += !testing::insideInterval(
+          map, i, j, tree.texelKey<OffsetQuadtree::Values::Relative>(i, j, tree.levels));
+  return wrong;
+}
+
 TEST_CASE("merged subtrees answer every occurrence inside its intervals", "[mmh]") {
   for (uint64_t seed = 1; seed <= 12; ++seed) {
     const SyntheticMap map = repeatedMotif(seed, seed % 2 ? 8 : 16);
@@ -44,12 +54,7 @@ TEST_CASE("merged subtrees answer every occurrence inside its intervals", "[mmh]
       CHECK((s.merges > 0) == (distance > 0));
       const OffsetQuadtree tree =
           layoutOffsetQuadtree(h, merged.values, merged.sharedChildren, 24, "test");
-      uint64_t wrong = 0;
-      for (uint32_t j = 0; j < 64; ++j)
-        for (uint32_t i = 0; i < 64; ++i)
-          wrong += !testing::insideInterval(
-              map, i, j, tree.texelKey<OffsetQuadtree::Values::Relative>(i, j, tree.levels));
-      CHECK(wrong == 0);
+      CHECK(texelsOutside(map, tree) == 0);
       if (distance == 0)
         mhWords = tree.words.size();
       else
@@ -82,14 +87,8 @@ TEST_CASE("merged packs whose values move keep every occurrence inside its inter
     MultiresHierarchy h = hierarchyOf(map, 32);
     const MergedHierarchy merged = SubtreeMatcher(h, {1000, 12, 24}).match();
     CHECK(merged.statistics.merges > 0);
-    const OffsetQuadtree tree =
-        layoutOffsetQuadtree(h, merged.values, merged.sharedChildren, 24, "test");
-    uint64_t wrong = 0;
-    for (uint32_t j = 0; j < 128; ++j)
-      for (uint32_t i = 0; i < 128; ++i)
-        wrong += !testing::insideInterval(
-            map, i, j, tree.texelKey<OffsetQuadtree::Values::Relative>(i, j, tree.levels));
-    CHECK(wrong == 0);
+    CHECK(texelsOutside(
+              map, layoutOffsetQuadtree(h, merged.values, merged.sharedChildren, 24, "test")) == 0);
   }
 }
 
