@@ -38,10 +38,10 @@ struct MatchingOptions {
 };
 
 // The phases the harness times: values relative and hashed, then matched and merged. The
-// matcher keeps, beside the hierarchy, a few bytes a node (about 26 while matching), since a merge
-// of parts holds the whole hierarchy of a 256K² map: instead of relative intervals it narrows
-// the hierarchy's own intervals, each node's in the frame of the occurrence that survives, and
-// keeps each node's reconstructed key, from which relative values follow.
+// matcher keeps few bytes a node beside the hierarchy (its budget: mmh.cpp), since a merge of
+// parts holds the whole hierarchy of a 256K² map: instead of relative intervals it narrows the
+// hierarchy's own intervals, each node's in the frame of the occurrence that survives, and keeps
+// each node's reconstructed key, from which relative values follow.
 class SubtreeMatcher {
  public:
   // `hierarchy` must outlive the matcher; merges narrow its nodes' intervals.
