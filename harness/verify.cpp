@@ -196,4 +196,64 @@ VerifyReport verify(const Decoder& decoder, SchemeKind kind, const MapInfo& map,
   return report;
 }
 
+VerifyReport verifyKernels(const Decoder& decoder, const MapInfo& map,
+                           std::span<const float> depths) {
+  const int64_t r = map.resolution;
+  const auto centre = [&](int64_t i) { return float((double(i) + 0.5) / double(r)); };
+  Checker checker{decoder, SchemeKind::Depth, map};
+  for (float z : depths) {
+    // Lit taps of every rectangle from a summed-area table of the point answers.
+    std::vector<Query> points(size_t(r * r));
+    for (int64_t j = 0; j < r; ++j)
+      for (int64_t i = 0; i < r; ++i) points[size_t(j * r + i)] = {centre(i), centre(j), z};
+    std::vector<float> lit(points.size());
+    decoder.lookup(points, 1, lit);
+    std::vector<uint32_t> sums(size_t((r + 1) * (r + 1)), 0);
+    for (int64_t j = 0; j < r; ++j)
+      for (int64_t i = 0; i < r; ++i)
+        sums[size_t((j + 1) * (r + 1) + i + 1)] =
+            uint32_t(lit[size_t(j * r + i)] == 1.0f) + sums[size_t(j * (r + 1) + i + 1)] +
+            sums[size_t((j + 1) * (r + 1) + i)] - sums[size_t(j * (r + 1) + i)];
+    const auto litIn = [&](int64_t i0, int64_t j0, int64_t i1, int64_t j1) {  // [i0, i1) × [j0, j1)
+      return sums[size_t(j1 * (r + 1) + i1)] - sums[size_t(j0 * (r + 1) + i1)] -
+             sums[size_t(j1 * (r + 1) + i0)] + sums[size_t(j0 * (r + 1) + i0)];
+    };
+    for (size_t f = 1; f < std::size(kStandardFilters); ++f) {
+      const int k = kStandardFilters[f];
+      const int64_t radius = k / 2;
+      Checker::Batch batch;
+      batch.queries = points;
+      batch.expected.reserve(points.size());
+      for (int64_t j = 0; j < r; ++j)
+        for (int64_t i = 0; i < r; ++i) {
+          const int64_t i0 = std::max<int64_t>(i - radius, 0), i1 = std::min(i + radius + 1, r);
+          const int64_t j0 = std::max<int64_t>(j - radius, 0), j1 = std::min(j + radius + 1, r);
+          const int64_t off = int64_t(k) * k - (i1 - i0) * (j1 - j0);
+          const float expected = float(off + litIn(i0, j0, i1, j1)) / float(k * k);
+          batch.expected.push_back({expected, expected});
+        }
+      checker.run(batch, k);
+    }
+  }
+  VerifyReport report;
+  report.method = "kernels against taps";
+  report.queries = checker.queries;
+  report.mismatches = checker.mismatches;
+  report.examples = std::move(checker.examples);
+  return report;
+}
+
+std::vector<float> hitDepthQuantiles(const DepthSource& source, int count) {
+  const ReferenceWindow map(source, 0, 0, source.resolution(), source.resolution());
+  std::vector<float> hits;
+  for (int64_t j = map.y0(); j < map.y1(); ++j)
+    for (int64_t i = map.x0(); i < map.x1(); ++i)
+      if (const float lo = map.at(i, j).lo; lo < 1.0f) hits.push_back(lo);
+  std::sort(hits.begin(), hits.end());
+  std::vector<float> depths;
+  for (int n = 0; n < count && !hits.empty(); ++n)
+    depths.push_back(hits[(hits.size() - 1) * size_t(2 * n + 1) / size_t(2 * count)]);
+  return depths;
+}
+
 }  // namespace sb

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -66,5 +67,16 @@ VisibilityRange acceptedRange(SchemeKind kind, const MapInfo& map, int64_t ci, i
 VerifyReport verify(const Decoder& decoder, SchemeKind kind, const MapInfo& map,
                     const DepthSource& source, const VerifyOptions& options,
                     const std::function<void(uint64_t queriesSoFar)>& progress = {});
+
+// Issue 13: a structure's k×k PCF (k of kStandardFilters above 1) against its own point lookups
+// composed tap for tap, which is what the generic pcfLookup answers: exactly the same float,
+// at the centre of every texel of the map, for every depth of `depths`. Kernel lookups that walk
+// a structure once per kernel must agree with it bit for bit. Never throws on a wrong answer.
+VerifyReport verifyKernels(const Decoder& decoder, const MapInfo& map,
+                           std::span<const float> depths);
+
+// `count` depths spread over the map's first hits (quantiles of the lo of every texel hit),
+// where kernels cross shadow boundaries: the depths verifyKernels is run at.
+std::vector<float> hitDepthQuantiles(const DepthSource& source, int count);
 
 }  // namespace sb

@@ -38,6 +38,9 @@ const Scene& spotLitCity() {
   return scene;
 }
 
+// Kernels are checked against taps at every texel up to this resolution.
+constexpr uint32_t kKernelCheckUpTo = 256;
+
 void checkCell(const SchemeInfo& scheme, const std::string& sceneName, DepthMode mode,
                uint32_t resolution, const VerifyOptions& options) {
   const Scene& scene = sceneName == "spot-city" ? spotLitCity() : cachedScene(sceneName);
@@ -52,6 +55,17 @@ void checkCell(const SchemeInfo& scheme, const std::string& sceneName, DepthMode
                      m.query.z, m.k, m.got, m.expected.min, m.expected.max));
   CHECK(report.queries > 0);
   CHECK(report.mismatches == 0);
+  if (resolution > kKernelCheckUpTo) return;
+  // Issue 13: kernel lookups that walk a structure once agree with its taps, bit for bit.
+  const std::vector<float> depths = hitDepthQuantiles(source, resolution <= 64 ? 16 : 4);
+  const VerifyReport kernels = verifyKernels(*built.decoder, built.map, depths);
+  INFO(fmt::format("{} on {} ({}, {}²): {} of {} kernels differ from their taps", scheme.name,
+                   sceneName, toString(mode), resolution, kernels.mismatches, kernels.queries));
+  for (const Mismatch& m : kernels.examples)
+    INFO(fmt::format("  x={} y={} z={} k={} got {} taps give {}", m.query.x, m.query.y, m.query.z,
+                     m.k, m.got, m.expected.min));
+  CHECK(kernels.queries > 0);
+  CHECK(kernels.mismatches == 0);
 }
 
 // Under AddressSanitizer (CI's second run) the sampled 1024² cells are left to the Release run:

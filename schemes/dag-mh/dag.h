@@ -5,6 +5,8 @@
 // one node.
 #pragma once
 
+#include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -13,6 +15,7 @@
 #include <vector>
 
 #include "schemes/dag-mh/treelet.h"
+#include "schemes/interface/depth_decoder.h"
 #include "schemes/shared/child_flags.h"
 #include "schemes/shared/multires_hierarchy.h"
 
@@ -113,11 +116,92 @@ struct Dag {
     return at.lastValue;
   }
 
+  // The value index of every texel of `rect` in one walk (issue 13): from each skip entry the
+  // rectangle overlaps, a point walk (descend) down to the lowest node holding the whole
+  // rectangle, then into every child it overlaps. A missing child, or a treelet node with no value
+  // below it, gives its whole overlap the value of the deepest node above: visit(index, texels)
+  // once for it.
+  template <class Visit>
+  void forEachValueBlock(const TexelRect& rect, Visit&& visit) const {
+    const int shift = levels - skipLevel;
+    for (uint32_t y = rect.j0 >> shift; y <= rect.j1 >> shift; ++y)
+      for (uint32_t x = rect.i0 >> shift; x <= rect.i1 >> shift; ++x) {
+        // A skip entry may stand above its square (a treelet or a missing child higher up): the
+        // walk from it keeps to the part of the rectangle inside the square.
+        const uint32_t x0 = x << shift, y0 = y << shift, last = (uint32_t(1) << shift) - 1;
+        const TexelRect inside{std::max(rect.i0, x0), std::max(rect.j0, y0),
+                               std::min(rect.i1, x0 + last), std::min(rect.j1, y0 + last)};
+        const int common =
+            levels - std::bit_width((inside.i0 ^ inside.i1) | (inside.j0 ^ inside.j1));
+        Traversal at = skipEntry(x0, y0);
+        descend(at, inside.i0, inside.j0, common);
+        const uint32_t corner = ~((uint32_t(1) << (levels - at.level)) - 1);
+        walkRect(at, inside.i0 & corner, inside.j0 & corner, inside, visit);
+      }
+  }
+
   void save(ByteWriter& out) const;
   // Reads what save() wrote and checks that every lookup stays inside the arrays and yields a
   // value index below `valueCount`; throws FormatError naming "dag-mh" and the field.
   static Dag load(ByteReader& in, int levels, int treeletHeight, int skipLevel,
                   uint32_t valueCount);
+
+ private:
+  // The node `at` reached covers the square of side 2^(levels − at.level) at (x0, y0), which
+  // overlaps `rect`; value indices advance over the children before each as descend() does.
+  template <class Visit>
+  void walkRect(const Traversal& at, uint32_t x0, uint32_t y0, const TexelRect& rect,
+                Visit& visit) const {
+    const uint32_t side = uint32_t(1) << (levels - at.level);
+    if (at.kind == Traversal::kNone) return visit(at.lastValue, overlap(rect, x0, y0, side));
+    if (at.kind == Traversal::kTreelet)
+      return walkTreelet(treeletAt(at.node), 0, 0, std::min(treelet.height - 1, levels - at.level),
+                         at.valueStart, at.lastValue, x0, y0, side, rect, visit);
+    const uint32_t* node = innerNodes.data() + at.node;
+    const uint32_t header = node[0], half = side / 2;
+    const uint32_t* pointer = node + 1;
+    const uint32_t midX = x0 + half, midY = y0 + half;
+    const bool columns[2] = {rect.i0 < midX, rect.i1 >= midX};
+    const bool rows[2] = {rect.j0 < midY, rect.j1 >= midY};
+    uint32_t valueStart = at.valueStart;
+    for (int k = 0; k < kMhChildren; ++k) {
+      const uint32_t flag = childFlag(header, k);
+      const bool entered = columns[k & 1] && rows[k >> 1];
+      const uint32_t cx = x0 + (k & 1) * half, cy = y0 + (k >> 1) * half;
+      if (flag == kNoChild) {
+        if (entered) visit(at.lastValue, overlap(rect, cx, cy, half));
+        continue;
+      }
+      const uint32_t reference = *pointer++;
+      if (entered) {
+        Traversal child{flag == kTreeletChild ? Traversal::kTreelet : Traversal::kInner, reference,
+                        at.level + 1, valueStart, at.lastValue};
+        if (flag == kFullInner) child.lastValue = child.valueStart++;
+        walkRect(child, cx, cy, rect, visit);
+      }
+      valueStart += flag == kTreeletChild ? treelet.count(treeletAt(reference))
+                                          : (flag == kFullInner) + innerCount(reference);
+    }
+  }
+
+  // Node n, at depth d of a treelet whose values start at `valueStart`, covers the square of
+  // side `side` at (x0, y0), which overlaps `rect`; `inherited` is the value its path gives so
+  // far. Alg. 1 on every path at once: the deepest node with a value answers.
+  template <class Visit>
+  void walkTreelet(const uint32_t* bits, uint32_t n, int d, int deepest, uint32_t valueStart,
+                   uint32_t inherited, uint32_t x0, uint32_t y0, uint32_t side,
+                   const TexelRect& rect, Visit& visit) const {
+    if (treelet.hasValue(bits, n)) inherited = valueStart + treelet.valuesBefore(bits, n);
+    if (d == deepest || treelet.valuesIn(bits, n + 1, n + treelet.subtreeBits[d]) == 0)
+      return visit(inherited, overlap(rect, x0, y0, side));
+    const uint32_t half = side / 2;
+    for (int l = 0; l < kMhChildren; ++l) {
+      const uint32_t cx = x0 + (l & 1) * half, cy = y0 + (l >> 1) * half;
+      if (overlap(rect, cx, cy, half) != 0)
+        walkTreelet(bits, n + 1 + uint32_t(l) * treelet.subtreeBits[d + 1], d + 1, deepest,
+                    valueStart, inherited, cx, cy, half, rect, visit);
+    }
+  }
 };
 
 // What building the DAG gives: the structure, and the value intervals in the order of the value

@@ -36,6 +36,11 @@ class DagMhDecoder final : public DepthDecoder<DagMhDecoder> {
 
   uint32_t resolution() const { return resolution_; }
   float depth(uint32_t i, uint32_t j) const { return values_.value(dag_.valueIndex(i, j)); }
+  template <class Visit>
+  void forEachDepthBlock(const TexelRect& rect, Visit&& visit) const {
+    dag_.forEachValueBlock(
+        rect, [&](uint32_t index, uint64_t texels) { visit(values_.value(index), texels); });
+  }
 
   SizeBreakdown size() const override {
     return {{"inner nodes", dag_.innerNodes.size() * sizeof(uint32_t)},

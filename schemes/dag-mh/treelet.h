@@ -47,11 +47,20 @@ struct TreeletShape {
   }
   // Set bits of the nodes before `node` in depth-first order.
   uint32_t valuesBefore(const uint32_t* treelet, uint32_t node) const {
-    const uint32_t at = countBits + node;
-    uint32_t before = 0;
-    for (uint32_t w = 0; w < at / 32; ++w) before += uint32_t(std::popcount(treelet[w]));
-    before += uint32_t(std::popcount(treelet[at / 32] & ((1u << (at % 32)) - 1)));
-    return before - uint32_t(std::popcount(count(treelet)));
+    return valuesIn(treelet, 0, node);
+  }
+  // Set bits of the nodes [first, end) of the depth-first order: a subtree's nodes are
+  // consecutive there, so this counts the values below a node.
+  uint32_t valuesIn(const uint32_t* treelet, uint32_t first, uint32_t end) const {
+    const uint32_t from = countBits + first, to = countBits + end;
+    const auto below = [&](uint32_t bit) {  // set bits of the stream before `bit`
+      uint32_t bits = 0;
+      for (uint32_t w = 0; w < bit / 32; ++w) bits += uint32_t(std::popcount(treelet[w]));
+      if (bit % 32 != 0)
+        bits += uint32_t(std::popcount(treelet[bit / 32] & ((1u << (bit % 32)) - 1)));
+      return bits;
+    };
+    return below(to) - below(from);
   }
 
   // Alg. 1: the deepest node with a value on texel (i, j)'s path through the treelet rooted at

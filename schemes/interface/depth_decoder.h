@@ -3,9 +3,12 @@
 // decoder derives from DepthDecoder<Self> and supplies
 //     uint32_t resolution() const;
 //     float depth(uint32_t i, uint32_t j) const;   // the stored d of texel (i, j)
-// and gets batch lookups that call depth() directly: no virtual call per query or tap.
+// and gets batch lookups that call depth() directly: no virtual call per query or tap. A
+// structure that can answer a whole kernel in one walk supplies forEachDepthBlock as well (see
+// KernelWalk), and its PCF lookups walk it once per kernel instead of once per tap.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <stdexcept>
 #include <string>
@@ -41,12 +44,63 @@ void pcfLookup(uint32_t resolution, const DepthAt& depthAt, std::span<const Quer
   }
 }
 
+// The taps of a kernel that lie inside the map: texels [i0, i1] × [j0, j1].
+struct TexelRect {
+  uint32_t i0, j0, i1, j1;
+  uint64_t texels() const { return uint64_t(i1 - i0 + 1) * (j1 - j0 + 1); }
+};
+
+// The texels a square of side `side` at (x0, y0) shares with `rect` (0 if none).
+inline uint64_t overlap(const TexelRect& rect, uint32_t x0, uint32_t y0, uint32_t side) {
+  const uint32_t i0 = std::max(rect.i0, x0), i1 = std::min(rect.i1, x0 + (side - 1));
+  const uint32_t j0 = std::max(rect.j0, y0), j1 = std::min(rect.j1, y0 + (side - 1));
+  return i0 > i1 || j0 > j1 ? 0 : uint64_t(i1 - i0 + 1) * (j1 - j0 + 1);
+}
+
+// Issue 13: a structure walked once per kernel. forEachDepthBlock(rect, visit) calls
+// visit(float depth, uint64_t texels) for disjoint blocks of texels that together cover `rect`,
+// each block's texels all storing `depth` (what depth(i, j) returns for each). A block larger
+// than a texel is a node of the structure that decides its whole region (the MH reference code's
+// kernel lookup), so its taps are tested once.
+template <class Self>
+concept KernelWalk = requires(const Self& self, const TexelRect& rect) {
+  self.forEachDepthBlock(rect, [](float, uint64_t) {});
+};
+
+// Exact k×k PCF from a kernel walk: the answers of pcfLookup, tap for tap, since every texel is
+// tested against the depth it stores.
+template <KernelWalk Self>
+void kernelLookup(const Self& self, std::span<const Query> queries, int k,
+                  std::span<float> visibility) {
+  const uint32_t resolution = self.resolution();
+  const int64_t radius = k / 2, last = int64_t(resolution) - 1;
+  const uint64_t taps = uint64_t(k) * uint64_t(k);
+  for (size_t q = 0; q < queries.size(); ++q) {
+    const Query& query = queries[q];
+    const int64_t ci = texelOf(query.x, resolution), cj = texelOf(query.y, resolution);
+    const int64_t i0 = std::max<int64_t>(ci - radius, 0), i1 = std::min(ci + radius, last);
+    const int64_t j0 = std::max<int64_t>(cj - radius, 0), j1 = std::min(cj + radius, last);
+    uint64_t lit = taps;
+    if (i0 <= i1 && j0 <= j1) {
+      // Taps off the map count as lit.
+      lit -= uint64_t(i1 - i0 + 1) * uint64_t(j1 - j0 + 1);
+      self.forEachDepthBlock(
+          TexelRect{uint32_t(i0), uint32_t(j0), uint32_t(i1), uint32_t(j1)},
+          [&](float depth, uint64_t texels) { lit += query.z <= depth ? texels : 0; });
+    }
+    visibility[q] = float(lit) / float(taps);
+  }
+}
+
 template <class Self>
 class DepthDecoder : public Decoder {
  public:
   void lookup(std::span<const Query> queries, int k, std::span<float> visibility) const final {
     checkLookupArguments(queries, k, visibility);
     const Self& self = static_cast<const Self&>(*this);
+    if constexpr (KernelWalk<Self>) {
+      if (k > 1) return kernelLookup(self, queries, k, visibility);
+    }
     pcfLookup(
         self.resolution(), [&](uint32_t i, uint32_t j) { return self.depth(i, j); }, queries, k,
         visibility);

@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "schemes/interface/depth_decoder.h"
 #include "schemes/interface/lightspace.h"
 #include "schemes/interface/serial.h"
 #include "tests/support/scratch_dir.h"
@@ -199,6 +200,39 @@ TEST_CASE("every scheme answers inside the intervals of a synthetic map", "[inte
       decoder->lookup(queries, 1, got);
       size_t wrong = 0;
       for (size_t q = 0; q < got.size(); ++q) wrong += got[q] != float(expected[q]);
+      CHECK(wrong == 0);
+    }
+}
+
+// Issue 13: kernels that walk a structure once must answer as its taps do, to the bit, also on a
+// map without any spatial coherence and with kernels hanging over every edge.
+TEST_CASE("every scheme's PCF equals its point lookups composed tap by tap", "[interface]") {
+  constexpr uint32_t r = 32;
+  for (const SchemeInfo& scheme : schemes())
+    for (DepthMode mode : {DepthMode::Open, DepthMode::Closed}) {
+      INFO(scheme.name << " " << toString(mode));
+      const SyntheticMap map = SyntheticMap::random(r, mode, 17);
+      const auto decoder = map.build(scheme, {}, 16);
+      const auto centre = [](int64_t i) { return (float(i) + 0.5f) / float(r); };
+      size_t wrong = 0;
+      for (float z : {0.2f, 0.45f, 0.7f}) {
+        std::vector<Query> points;
+        for (uint32_t j = 0; j < r; ++j)
+          for (uint32_t i = 0; i < r; ++i) points.push_back({centre(i), centre(j), z});
+        std::vector<float> lit(points.size()), got(points.size());
+        decoder->lookup(points, 1, lit);
+        for (int k : {3, 5, 9, 17}) {
+          decoder->lookup(points, k, got);
+          for (uint32_t j = 0; j < r; ++j)
+            for (uint32_t i = 0; i < r; ++i) {
+              int taps = 0;
+              for (int64_t tj = int64_t(j) - k / 2; tj <= int64_t(j) + k / 2; ++tj)
+                for (int64_t ti = int64_t(i) - k / 2; ti <= int64_t(i) + k / 2; ++ti)
+                  taps += !insideMap(ti, tj, r) || lit[size_t(tj) * r + size_t(ti)] == 1.0f;
+              wrong += got[j * r + i] != float(taps) / float(k * k);
+            }
+        }
+      }
       CHECK(wrong == 0);
     }
 }

@@ -31,25 +31,58 @@ struct OffsetQuadtree {
   // stores it relative to the parent's reconstructed key (the sum along the path, SBE16b Alg. 1).
   enum class Values { Absolute, Relative };
 
+  // Where a walk stands: the `kind` node of `level` at word `position`, and the key its path
+  // gives.
+  struct Walk {
+    uint64_t position;
+    MhChild kind;
+    int level;
+    uint32_t key;
+  };
+  Walk rootWalk() const { return {0, rootKind, 0, words[0]}; }
+
+  // One step of a walk, to child k of its inner node; false where that child is missing (the
+  // walk stays, and its key answers the child's whole square).
+  template <Values mode>
+  bool step(Walk& walk, int k) const {
+    const uint32_t link = words[walk.position + (walk.kind == MhChild::Full)];
+    const uint32_t flags = link & 0xff;
+    const MhChild child = MhChild(childFlag(flags, k));
+    if (child == MhChild::None) return false;
+    walk.position += uint64_t(link >> 8) * levelScale[walk.level] + siblingWords(flags, k);
+    walk.kind = child;
+    ++walk.level;
+    if (child != MhChild::Empty)
+      walk.key = mode == Values::Relative ? walk.key + words[walk.position] : words[walk.position];
+    return true;
+  }
+
   // The key texel (i, j) reads, walking no deeper than `deepest` (the map `levels − deepest`
   // levels up: hierarchical PCF).
   template <Values mode>
   uint32_t texelKey(uint32_t i, uint32_t j, int deepest) const {
-    uint64_t position = 0;
-    MhChild kind = rootKind;
-    uint32_t key = words[0];
-    for (int level = 0; kind != MhChild::Leaf && level < deepest; ++level) {
-      const uint32_t link = words[position + (kind == MhChild::Full)];
-      const uint32_t flags = link & 0xff;
-      const int k = mhChildIndex(i, j, levels - level - 1);
-      const MhChild child = MhChild(childFlag(flags, k));
-      if (child == MhChild::None) break;
-      position += uint64_t(link >> 8) * levelScale[level] + siblingWords(flags, k);
-      kind = child;
-      if (child == MhChild::Empty) continue;
-      key = mode == Values::Relative ? key + words[position] : words[position];
+    Walk walk = rootWalk();
+    while (walk.kind != MhChild::Leaf && walk.level < deepest &&
+           step<mode>(walk, mhChildIndex(i, j, levels - walk.level - 1))) {
     }
-    return key;
+    return walk.key;
+  }
+
+  // The keys of the texels of `rect` in one walk (issue 13, as the MH reference code filters): a
+  // point walk down to the lowest node holding the whole rectangle, whose level is where the
+  // corners' coordinates first differ, then into each child the rectangle overlaps. A missing
+  // child or a leaf above the texel level gives its whole overlap one key: visit(key, texels)
+  // once for it.
+  template <Values mode, class Visit>
+  void forEachKeyBlock(const TexelRect& rect, Visit&& visit) const {
+    const int common = levels - std::bit_width((rect.i0 ^ rect.i1) | (rect.j0 ^ rect.j1));
+    Walk walk = rootWalk();
+    while (walk.kind != MhChild::Leaf && walk.level < common)
+      if (!step<mode>(walk, mhChildIndex(rect.i0, rect.j0, levels - walk.level - 1)))
+        return visit(walk.key, rect.texels());
+    if (walk.kind == MhChild::Leaf) return visit(walk.key, rect.texels());
+    const uint32_t corner = ~((uint32_t(1) << (levels - walk.level)) - 1);
+    walkRect<mode>(walk, rect.i0 & corner, rect.j0 & corner, rect, visit);
   }
 
   // Words taken by the children before child k, from the parent's flags.
@@ -68,6 +101,35 @@ struct OffsetQuadtree {
   // the file, children only above the texel level, no inner node without children. `scheme`
   // names the scheme in errors.
   static OffsetQuadtree load(ByteReader& in, const MapInfo& map, const char* scheme);
+
+ private:
+  // The inner node `walk` stands on covers the square at (x0, y0) that holds `rect`'s part below
+  // it; a child is entered where the rectangle reaches its side of the square's middle.
+  template <Values mode, class Visit>
+  void walkRect(const Walk& walk, uint32_t x0, uint32_t y0, const TexelRect& rect,
+                Visit& visit) const {
+    const uint32_t half = uint32_t(1) << (levels - walk.level - 1);
+    const uint32_t link = words[walk.position + (walk.kind == MhChild::Full)];
+    const uint32_t flags = link & 0xff;
+    const uint32_t midX = x0 + half, midY = y0 + half;
+    const bool columns[2] = {rect.i0 < midX, rect.i1 >= midX};
+    const bool rows[2] = {rect.j0 < midY, rect.j1 >= midY};
+    uint64_t at = walk.position + uint64_t(link >> 8) * levelScale[walk.level];
+    for (int k = 0; k < kMhChildren; ++k) {
+      const MhChild child = MhChild(childFlag(flags, k));
+      if (columns[k & 1] && rows[k >> 1]) {
+        const uint32_t cx = x0 + (k & 1) * half, cy = y0 + (k >> 1) * half;
+        const uint32_t key = child == MhChild::None || child == MhChild::Empty ? walk.key
+                             : mode == Values::Relative ? walk.key + words[at]
+                                                        : words[at];
+        if (child == MhChild::None || child == MhChild::Leaf)
+          visit(key, overlap(rect, cx, cy, half));
+        else
+          walkRect<mode>(Walk{at, child, walk.level + 1, key}, cx, cy, rect, visit);
+      }
+      at += kindWords(child);
+    }
+  }
 };
 
 // The decoder of `mh` (absolute values) and `mmh` (relative values): point, exact PCF and
@@ -81,6 +143,11 @@ class OffsetQuadtreeDecoder final : public HierarchicalDepthDecoder<OffsetQuadtr
   uint32_t resolution() const { return uint32_t(1) << tree_.levels; }
   float depth(uint32_t i, uint32_t j) const {
     return depthOfKey(tree_.texelKey<mode>(i, j, tree_.levels));
+  }
+  template <class Visit>
+  void forEachDepthBlock(const TexelRect& rect, Visit&& visit) const {
+    tree_.forEachKeyBlock<mode>(
+        rect, [&](uint32_t key, uint64_t texels) { visit(depthOfKey(key), texels); });
   }
   float coarseDepth(uint32_t i, uint32_t j, int coarser) const {
     return depthOfKey(tree_.texelKey<mode>(i << coarser, j << coarser, tree_.levels - coarser));
