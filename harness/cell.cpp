@@ -155,7 +155,8 @@ Record finishRecord(Record record, const SchemeInfo& scheme, const BuildOutcome&
       for (int k : options.filters) {
         const LookupTiming t = timeLookups(*built.decoder, set, k);
         record.lookup->push_back({t.querySet, t.filter, t.queries, t.nsPerQuerySingleThread,
-                                  t.mqueriesPerSecondAllThreads, uint64_t(t.threads)});
+                                  t.mqueriesPerSecondAllThreads, uint64_t(t.threads),
+                                  t.cacheHitRate});
       }
   }
 

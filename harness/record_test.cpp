@@ -44,7 +44,9 @@ json sampleRecord() {
     "memory": {"peak_rss_bytes": 123, "baseline_rss_bytes": 45},
     "verification": {"method": "exhaustive", "queries": 123456, "mismatches": 0, "examples": []},
     "lookup": [{"query_set": "uniform", "filter": 1, "queries": 1000000, "ns_per_query_1t": 12.5,
-                "mqueries_per_s_all": 150.0, "threads": 2}],
+                "mqueries_per_s_all": 150.0, "threads": 2},
+               {"query_set": "view", "filter": 3, "queries": 1000000, "ns_per_query_1t": 40.0,
+                "mqueries_per_s_all": 50.0, "threads": 2, "cache_hit_rate": 0.75}],
     "machine": {"cpu": "...", "cores": 2, "memory_bytes": 0, "os": "..."},
     "commit": "abc123", "created": "2026-11-26T10:00:00Z" })");
 }
@@ -187,6 +189,8 @@ TEST_CASE("a Record reads every field of a record and writes the same JSON back"
   CHECK(record.time->phases.at("encode") == 0.3);
   REQUIRE(record.lookup.has_value());
   CHECK(record.lookup->at(0).nsPerQuerySingleThread == 12.5);
+  CHECK(!record.lookup->at(0).cacheHitRate.has_value());
+  CHECK(record.lookup->at(1).cacheHitRate == 0.75);
   CHECK(record.verification->queries == 123456);
   CHECK(json(record) == written);
 }
@@ -244,6 +248,8 @@ TEST_CASE("a Record refuses impossible values and says which field", "[record]")
   CHECK(refused([](json& r) { r["lookup"][0]["ns_per_query_1t"] = -3.0; },
                 "lookup[0].ns_per_query_1t"));
   CHECK(refused([](json& r) { r["lookup"][0]["filter"] = 4; }, "lookup[0].filter is 4"));
+  CHECK(refused([](json& r) { r["lookup"][1]["cache_hit_rate"] = 1.5; },
+                "lookup[1].cache_hit_rate is 1.5"));
   CHECK(refused([](json& r) { r["verification"]["mismatches"] = -2; },
                 "verification.mismatches is -2"));
   CHECK(refused([](json& r) { r["mode"] = "closd"; }, "mode is 'closd'"));

@@ -160,6 +160,12 @@ RecordLookup lookupOf(const json& value, const std::string& path) {
   lookup.nsPerQuerySingleThread = t.amount("ns_per_query_1t");
   lookup.mqueriesPerSecondAllThreads = t.amount("mqueries_per_s_all");
   lookup.threads = t.count("threads");
+  if (t.has("cache_hit_rate")) {
+    lookup.cacheHitRate = t.amount("cache_hit_rate");
+    if (*lookup.cacheHitRate > 1)
+      throw RecordError(fmt::format("{} is {}: a share, at most 1", t.name("cache_hit_rate"),
+                                    *lookup.cacheHitRate));
+  }
   return lookup;
 }
 
@@ -216,13 +222,15 @@ void to_json(json& j, const Record& r) {
                          {"examples", r.verification->examples}};
   if (r.lookup) {
     json list = json::array();
-    for (const RecordLookup& t : *r.lookup)
+    for (const RecordLookup& t : *r.lookup) {
       list.push_back({{"query_set", t.querySet},
                       {"filter", t.filter},
                       {"queries", t.queries},
                       {"ns_per_query_1t", t.nsPerQuerySingleThread},
                       {"mqueries_per_s_all", t.mqueriesPerSecondAllThreads},
                       {"threads", t.threads}});
+      if (t.cacheHitRate) list.back()["cache_hit_rate"] = *t.cacheHitRate;
+    }
     j["lookup"] = std::move(list);
   }
   if (!r.machine.is_null()) j["machine"] = r.machine;

@@ -83,6 +83,7 @@ struct RecordLookup {
   double nsPerQuerySingleThread = 0;
   double mqueriesPerSecondAllThreads = 0;
   uint64_t threads = 0;
+  std::optional<double> cacheHitRate;  // decoders with a block cache (issue 13)
 };
 
 struct Record {

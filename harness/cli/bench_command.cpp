@@ -23,9 +23,11 @@ void benchStructure(const BenchOptions& o) {
   for (const QuerySet& set : sets)
     for (int k : kStandardFilters) {
       const LookupTiming t = timeLookups(*loaded.decoder, set, k);
-      fmt::print("{:8} {:2}×{:<2}: {:8.1f} ns/query (1 thread), {:8.1f} Mqueries/s ({} threads)\n",
+      fmt::print("{:8} {:2}×{:<2}: {:8.1f} ns/query (1 thread), {:8.1f} Mqueries/s ({} threads)",
                  t.querySet, k, k, t.nsPerQuerySingleThread, t.mqueriesPerSecondAllThreads,
                  t.threads);
+      if (t.cacheHitRate) fmt::print(", cache hits {:.1f}%", 100 * *t.cacheHitRate);
+      fmt::print("\n");
     }
 }
 

@@ -232,13 +232,17 @@ void printCellSummary(const nlohmann::json& r) {
       r["memory"]["peak_rss_bytes"].get<double>() / (1 << 20));
   if (r.contains("verification")) printVerification(r["verification"]);
   if (r.contains("lookup"))
-    for (const auto& t : r["lookup"])
+    for (const auto& t : r["lookup"]) {
       fmt::print(
           "  lookup {:8} {:2}×{:<2}: {:8.1f} ns/query (1 thread), {:8.1f} Mqueries/s ({} "
-          "threads)\n",
+          "threads)",
           t["query_set"].get<std::string>(), t["filter"].get<int>(), t["filter"].get<int>(),
           t["ns_per_query_1t"].get<double>(), t["mqueries_per_s_all"].get<double>(),
           t["threads"].get<int>());
+      if (t.contains("cache_hit_rate"))
+        fmt::print(", cache hits {:.1f}%", 100 * t["cache_hit_rate"].get<double>());
+      fmt::print("\n");
+    }
 }
 
 bool hasMismatches(const nlohmann::json& record) {

@@ -1,6 +1,7 @@
 // Lookups a structure may offer beside the exact ones of DESIGN §4, reached through
 // Decoder::hierarchicalLookup() and Decoder::voxelOccupancy(): approximate filters for distant
-// shadows, reported against exact PCF, not checked.
+// shadows, reported against exact PCF, not checked. And what a decoder with a cache reports
+// of it, through Decoder::blockCacheStatistics().
 #pragma once
 
 #include <cstdint>
@@ -33,6 +34,20 @@ class VoxelOccupancy {
   virtual uint32_t depthOfSide(uint32_t side) const = 0;
   virtual void litFraction(std::span<const Query> queries, uint32_t depth,
                            std::span<float> fraction) const = 0;
+};
+
+// Decoders that decompress blocks into a cache of each looking-up thread (sm-zstd) count that
+// thread's lookups the cache answered and the blocks it decompressed, so that the harness can
+// put a hit rate beside a single-thread timing (issue 13). Their cost per query depends on the
+// batch, so the harness times them on whole frames.
+class BlockCacheStatistics {
+ public:
+  struct Counts {
+    uint64_t hits = 0, misses = 0;
+  };
+  virtual ~BlockCacheStatistics() = default;
+  // The calling thread's counts since its cache last began serving this decoder.
+  virtual Counts threadCounts() const = 0;
 };
 
 }  // namespace sb

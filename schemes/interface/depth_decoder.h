@@ -12,6 +12,7 @@
 #include <bit>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "schemes/interface/capabilities.h"
 #include "schemes/interface/lightspace.h"
@@ -92,11 +93,37 @@ void kernelLookup(const Self& self, std::span<const Query> queries, int k,
   }
 }
 
+// Issue 13: the positions of a batch's queries sorted by the Morton code of their texels (those
+// off the map first), so that consecutive lookups share what they read.
+std::vector<uint32_t> mortonOrder(std::span<const Query> queries, uint32_t resolution);
+
+// A decoder declaring `static constexpr bool kMortonBatches = true` answers each batch in
+// mortonOrder and writes the answers back in the caller's order: worth it where a lookup pays
+// for what it brings in (sm-zstd decompresses a block on a cache miss), not where the sort costs
+// more than it saves.
+template <class Self>
+concept SortsBatches = Self::kMortonBatches;
+
 template <class Self>
 class DepthDecoder : public Decoder {
  public:
   void lookup(std::span<const Query> queries, int k, std::span<float> visibility) const final {
     checkLookupArguments(queries, k, visibility);
+    if constexpr (SortsBatches<Self>) {
+      const std::vector<uint32_t> order =
+          mortonOrder(queries, static_cast<const Self&>(*this).resolution());
+      std::vector<Query> sorted(queries.size());
+      for (size_t q = 0; q < order.size(); ++q) sorted[q] = queries[order[q]];
+      std::vector<float> answers(queries.size());
+      lookupInOrder(sorted, k, answers);
+      for (size_t q = 0; q < order.size(); ++q) visibility[order[q]] = answers[q];
+    } else {
+      lookupInOrder(queries, k, visibility);
+    }
+  }
+
+ private:
+  void lookupInOrder(std::span<const Query> queries, int k, std::span<float> visibility) const {
     const Self& self = static_cast<const Self&>(*this);
     if constexpr (KernelWalk<Self>) {
       if (k > 1) return kernelLookup(self, queries, k, visibility);

@@ -237,6 +237,14 @@ TEST_CASE("every scheme's PCF equals its point lookups composed tap by tap", "[i
     }
 }
 
+TEST_CASE("a batch in Morton order: every query once, off-map ones first", "[interface]") {
+  const std::vector<Query> queries{
+      {0.9f, 0.9f, 0}, {0.1f, 0.1f, 0}, {-1, 0.5f, 0}, {0.6f, 0.1f, 0}, {0.1f, 0.6f, 0}};
+  // Texels of an 8² map: (7, 7), (0, 0), off, (4, 0), (0, 4); Morton codes 63, 0, -, 16, 32.
+  CHECK(mortonOrder(queries, 8) == std::vector<uint32_t>{2, 1, 3, 4, 0});
+  CHECK(mortonOrder({}, 8).empty());
+}
+
 TEST_CASE("lookups reject invalid filter sizes and count outside taps as lit", "[interface]") {
   for (const SchemeInfo& scheme : schemes()) {
     INFO(scheme.name);

@@ -29,6 +29,7 @@ class PartMerger;
 struct MapPart;
 class HierarchicalLookup;  // schemes/interface/capabilities.h
 class VoxelOccupancy;
+class BlockCacheStatistics;
 
 // DESIGN §3: how the interval [lo, hi] of a texel is defined.
 enum class DepthMode { Open, Closed, Static };
@@ -89,6 +90,7 @@ class Decoder {
   // Optional lookups (capabilities.h): null where the structure does not offer them.
   virtual const HierarchicalLookup* hierarchicalLookup() const { return nullptr; }
   virtual const VoxelOccupancy* voxelOccupancy() const { return nullptr; }
+  virtual const BlockCacheStatistics* blockCacheStatistics() const { return nullptr; }
 };
 
 // The harness's side of a build: phase boundaries and counters a scheme reports, timed and

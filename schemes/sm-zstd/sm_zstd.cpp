@@ -14,6 +14,7 @@
 #include <tbb/parallel_for.h>
 #include <zstd.h>
 
+#include "schemes/interface/capabilities.h"
 #include "schemes/interface/depth_decoder.h"
 #include "schemes/interface/morton.h"
 #include "schemes/interface/serial.h"
@@ -27,6 +28,10 @@ constexpr const char* kScheme = "sm-zstd";
 // the map itself (a map smaller than a block is one block).
 uint32_t blockSideOf(const ParamValues& params, uint32_t resolution) {
   return std::min<uint32_t>(uint32_t(params.integer("block")), resolution);
+}
+
+uint64_t cacheBytesOf(const ParamValues& params) {
+  return uint64_t(params.integer("cache")) << 20;
 }
 
 // Decompresses one block frame into `texels` (blockTexels floats) with `context`; false if the
@@ -51,34 +56,52 @@ ZSTD_DCtx* threadContext() {
   return owner.context;
 }
 
-// Decoded blocks a thread keeps: lookups from several TBB threads each decompress into their own
-// cache, so the decoder itself stays immutable. Keyed by decoder instance (ids are never reused,
-// so a destroyed decoder's blocks cannot answer for a new one) and block index. Four entries so
-// that a PCF kernel straddling a block corner does not decompress a block per kernel row.
+// Decoded blocks a thread keeps, as a block codec's user configures them (issue 13): lookups
+// from several TBB threads each decompress into their own cache, so the decoder itself stays
+// immutable. The cache serves one decoder at a time, keyed by instance (ids are never reused, so
+// a destroyed decoder's blocks cannot answer for a new one), and is 4-way set associative over
+// the blocks' Morton indices with the least recently used way replaced: neighbouring blocks
+// fall in different sets, and a PCF kernel across a block corner keeps its four blocks.
 struct BlockCache {
-  static constexpr size_t kEntries = 4;
-  struct Entry {
-    uint64_t decoder = 0;  // 0: empty (instance ids start at 1)
-    uint64_t block = 0;
-    std::vector<float> texels;
-  };
-  std::array<Entry, kEntries> entries;
-  size_t next = 0;  // round-robin replacement
+  static constexpr uint32_t kWays = 4;
+  uint64_t decoder = 0;  // 0: none (instance ids start at 1)
+  uint64_t setMask = 0;
+  std::vector<uint64_t> blocks;  // per set, its ways' block indices, most recently used first
+  std::vector<uint32_t> slots;   // the slot in `texels` of each of those ways
+  std::vector<float> texels;
+  BlockCacheStatistics::Counts counts;
+
+  // For `decoder` with blocks of `blockTexels` floats, `bytes` in all (at least a set).
+  void reset(uint64_t id, size_t blockTexels, uint64_t bytes) {
+    const uint64_t sets =
+        std::bit_floor(std::max<uint64_t>(1, bytes / (blockTexels * sizeof(float)) / kWays));
+    decoder = id;
+    setMask = sets - 1;
+    blocks.assign(sets * kWays, ~uint64_t(0));
+    slots.resize(sets * kWays);
+    for (uint32_t w = 0; w < slots.size(); ++w) slots[w] = w;
+    texels.assign(sets * kWays * blockTexels, 0.0f);
+    counts = {};
+  }
 };
+
+thread_local BlockCache threadCache;
 
 std::atomic<uint64_t> nextDecoderId{1};
 
-class SmZstdDecoder final : public DepthDecoder<SmZstdDecoder> {
+class SmZstdDecoder final : public DepthDecoder<SmZstdDecoder>, public BlockCacheStatistics {
  public:
   // `offsets` has a start per block plus the end of the last; validates everything so that
-  // lookups never meet a bad frame. Throws FormatError.
+  // lookups never meet a bad frame. Throws FormatError. Each thread caches `cacheBytes` of
+  // decoded blocks (at least four blocks).
   SmZstdDecoder(uint32_t resolution, uint32_t blockSide, std::vector<uint64_t> offsets,
-                std::vector<uint8_t> blocks)
+                std::vector<uint8_t> blocks, uint64_t cacheBytes)
       : resolution_(resolution),
         blockSide_(blockSide),
         blocksPerRow_(resolution / blockSide),
         offsets_(std::move(offsets)),
         blocks_(std::move(blocks)),
+        cacheBytes_(cacheBytes),
         id_(nextDecoderId.fetch_add(1)) {
     const uint64_t blockCount = uint64_t(blocksPerRow_) * blocksPerRow_;
     if (offsets_.size() != blockCount + 1)
@@ -101,12 +124,33 @@ class SmZstdDecoder final : public DepthDecoder<SmZstdDecoder> {
     }
   }
 
+  // A uniform batch would otherwise decompress a block per query.
+  static constexpr bool kMortonBatches = true;
+
   uint32_t resolution() const { return resolution_; }
 
   float depth(uint32_t i, uint32_t j) const {
-    const uint64_t block = mortonCode(i / blockSide_, j / blockSide_);
-    const std::vector<float>& texels = decodedBlock(block);
+    const float* texels = decodedBlock(mortonCode(i / blockSide_, j / blockSide_));
     return texels[size_t(j % blockSide_) * blockSide_ + i % blockSide_];
+  }
+  // Issue 13: a kernel reads each block it overlaps from the cache once, not once per tap.
+  template <class Visit>
+  void forEachDepthBlock(const TexelRect& rect, Visit&& visit) const {
+    for (uint32_t by = rect.j0 / blockSide_; by <= rect.j1 / blockSide_; ++by)
+      for (uint32_t bx = rect.i0 / blockSide_; bx <= rect.i1 / blockSide_; ++bx) {
+        const float* texels = decodedBlock(mortonCode(bx, by));
+        const uint32_t x0 = bx * blockSide_, y0 = by * blockSide_;
+        const uint32_t i0 = std::max(rect.i0, x0), i1 = std::min(rect.i1, x0 + blockSide_ - 1);
+        const uint32_t j0 = std::max(rect.j0, y0), j1 = std::min(rect.j1, y0 + blockSide_ - 1);
+        for (uint32_t j = j0; j <= j1; ++j)
+          for (uint32_t i = i0; i <= i1; ++i)
+            visit(texels[size_t(j - y0) * blockSide_ + (i - x0)], 1);
+      }
+  }
+
+  const BlockCacheStatistics* blockCacheStatistics() const override { return this; }
+  Counts threadCounts() const override {
+    return threadCache.decoder == id_ ? threadCache.counts : Counts{};
   }
 
   SizeBreakdown size() const override {
@@ -125,21 +169,34 @@ class SmZstdDecoder final : public DepthDecoder<SmZstdDecoder> {
     return std::span(blocks_).subspan(offsets_[block], offsets_[block + 1] - offsets_[block]);
   }
 
-  const std::vector<float>& decodedBlock(uint64_t block) const {
-    thread_local BlockCache cache;
-    for (const BlockCache::Entry& entry : cache.entries)
-      if (entry.decoder == id_ && entry.block == block) return entry.texels;
-    BlockCache::Entry& entry = cache.entries[cache.next];
-    cache.next = (cache.next + 1) % BlockCache::kEntries;
-    entry.texels.resize(blockTexels());
-    // Every frame was decompressed once at load, so this cannot fail short of memory corruption.
-    if (!decompressBlock(threadContext(), frame(block), entry.texels)) {
-      entry.decoder = 0;
-      throw std::logic_error(fmt::format("{}: block {} failed to decompress", kScheme, block));
+  // The decoded texels of `block` (Morton index), from this thread's cache or decompressed into
+  // it.
+  const float* decodedBlock(uint64_t block) const {
+    BlockCache& cache = threadCache;
+    if (cache.decoder != id_) cache.reset(id_, blockTexels(), cacheBytes_);
+    const size_t set = size_t(block & cache.setMask) * BlockCache::kWays;
+    uint64_t* ways = cache.blocks.data() + set;
+    uint32_t* slots = cache.slots.data() + set;
+    uint32_t way = 0;
+    while (way < BlockCache::kWays && ways[way] != block) ++way;
+    const bool hit = way < BlockCache::kWays;
+    if (!hit) way = BlockCache::kWays - 1;
+    // Most recently used first: the way moves to the front, the others down one.
+    const uint32_t slot = slots[way];
+    std::rotate(ways, ways + way, ways + way + 1);
+    std::rotate(slots, slots + way, slots + way + 1);
+    float* texels = cache.texels.data() + size_t(slot) * blockTexels();
+    if (hit) {
+      ++cache.counts.hits;
+      return texels;
     }
-    entry.decoder = id_;
-    entry.block = block;
-    return entry.texels;
+    ++cache.counts.misses;
+    ways[0] = ~uint64_t(0);
+    // Every frame was decompressed once at load, so this cannot fail short of memory corruption.
+    if (!decompressBlock(threadContext(), frame(block), std::span(texels, blockTexels())))
+      throw std::logic_error(fmt::format("{}: block {} failed to decompress", kScheme, block));
+    ways[0] = block;
+    return texels;
   }
 
   uint32_t resolution_, blockSide_, blocksPerRow_;
@@ -147,6 +204,7 @@ class SmZstdDecoder final : public DepthDecoder<SmZstdDecoder> {
   // blocks_[offsets_[m], offsets_[m + 1]).
   std::vector<uint64_t> offsets_;
   std::vector<uint8_t> blocks_;
+  uint64_t cacheBytes_;
   uint64_t id_;
 };
 
@@ -155,8 +213,12 @@ class SmZstdDecoder final : public DepthDecoder<SmZstdDecoder> {
 // its block is compressed: the build holds the compressed map once, never a copy of it.
 class SmZstdEncoder final : public Encoder {
  public:
-  SmZstdEncoder(const MapInfo& map, uint32_t blockSide, int level)
-      : map_(map), blockSide_(blockSide), blocksPerRow_(map.resolution / blockSide), level_(level) {
+  SmZstdEncoder(const MapInfo& map, uint32_t blockSide, int level, uint64_t cacheBytes)
+      : map_(map),
+        blockSide_(blockSide),
+        blocksPerRow_(map.resolution / blockSide),
+        level_(level),
+        cacheBytes_(cacheBytes) {
     offsets_.reserve(uint64_t(blocksPerRow_) * blocksPerRow_ + 1);
     offsets_.push_back(0);
     // Frames never exceed the bound of the raw map, and pages reserved but never written cost
@@ -207,7 +269,7 @@ class SmZstdEncoder final : public Encoder {
       throw std::logic_error(fmt::format("{}: not every block received all its texels", kScheme));
     context.count("compressed bytes", blocks_.size());
     return std::make_unique<SmZstdDecoder>(map_.resolution, blockSide_, std::move(offsets_),
-                                           std::move(blocks_));
+                                           std::move(blocks_), cacheBytes_);
   }
 
  private:
@@ -230,6 +292,7 @@ class SmZstdEncoder final : public Encoder {
   MapInfo map_;
   uint32_t blockSide_, blocksPerRow_;
   int level_;
+  uint64_t cacheBytes_;
   std::unordered_map<uint64_t, PartialBlock> partials_;  // by Morton index
   std::map<uint64_t, std::vector<uint8_t>> waiting_;     // compressed, awaiting earlier blocks
   std::vector<uint64_t> offsets_;
@@ -245,7 +308,11 @@ SchemeInfo smZstd() {
                                     8, 1024, {32, 64, 128, 256})
                      .satisfying("a power of two",
                                  [](int64_t side) { return std::has_single_bit(uint64_t(side)); }),
-                 ParamSpec::integer("level", "zstd compression level", 3, 1, 19, {1, 3, 9, 19})};
+                 ParamSpec::integer("level", "zstd compression level", 3, 1, 19, {1, 3, 9, 19}),
+                 ParamSpec::integer("cache",
+                                    "MiB of decoded blocks each looking-up thread keeps (at least "
+                                    "four blocks); lookups only, the structure is the same",
+                                    4, 1, 4096, {1, 4, 16, 64})};
   // The blocks in flight, at most a row of them, and the frames' array, which the encoder
   // reserves at the raw map's compression bound: the frames depend on the data (below the raw
   // map; 57% of it on the city), and the kernel commits a reservation it cannot back only at
@@ -258,7 +325,7 @@ SchemeInfo smZstd() {
   info.makeEncoder = [](const MapInfo& map, const ParamValues& params,
                         const BuildShape&) -> std::unique_ptr<Encoder> {
     return std::make_unique<SmZstdEncoder>(map, blockSideOf(params, map.resolution),
-                                           int(params.integer("level")));
+                                           int(params.integer("level")), cacheBytesOf(params));
   };
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues& params) -> std::unique_ptr<Decoder> {
@@ -267,7 +334,7 @@ SchemeInfo smZstd() {
     auto offsets = in.getArray<uint64_t>("sm-zstd block offsets", perRow * perRow + 1);
     auto blocks = in.getArray<uint8_t>("sm-zstd blocks");
     return std::make_unique<SmZstdDecoder>(map.resolution, side, std::move(offsets),
-                                           std::move(blocks));
+                                           std::move(blocks), cacheBytesOf(params));
   };
   return info;
 }

@@ -1,6 +1,7 @@
 // sm-zstd beside the code: blocks larger and smaller than a tile, and tiles in any order, assemble
-// the same map as sm32, lookups from several threads share no cache entries, and a payload whose
-// block offsets, frames or depths are damaged (behind a valid checksum) does not load.
+// the same map as sm32, lookups from several threads share no cache entries, the cache holds
+// what its size says with the least recently used block out, and a payload whose block offsets,
+// frames or depths are damaged (behind a valid checksum) does not load.
 #include <zstd.h>
 
 #include <cmath>
@@ -10,6 +11,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "schemes/interface/capabilities.h"
+#include "schemes/interface/morton.h"
 #include "schemes/interface/serial.h"
 #include "tests/support/synthetic_map.h"
 
@@ -87,7 +90,51 @@ TEST_CASE("sm-zstd lookups from several threads agree with one thread", "[sm-zst
   for (size_t t = 0; t < got.size(); ++t) CHECK(got[t] == (t % 2 ? expectedA : expectedB));
 }
 
-TEST_CASE("sm-zstd refuses block sizes that are not powers of two", "[sm-zstd]") {
+// The cache's hits and misses over `rounds` passes of a point lookup in each block of
+// `blocks` (Morton indices of 64² blocks of a 1024² map), in the calling thread.
+BlockCacheStatistics::Counts cacheCounts(const Decoder& decoder,
+                                         std::initializer_list<uint64_t> blocks, int rounds) {
+  const BlockCacheStatistics* cache = decoder.blockCacheStatistics();
+  REQUIRE(cache != nullptr);
+  const BlockCacheStatistics::Counts before = cache->threadCounts();
+  for (int round = 0; round < rounds; ++round)
+    for (uint64_t block : blocks) {
+      const Query query{(float(mortonX(block)) * 64 + 0.5f) / 1024,
+                        (float(mortonY(block)) * 64 + 0.5f) / 1024, 0.5f};
+      float visibility;
+      decoder.lookup({&query, 1}, 1, {&visibility, 1});
+    }
+  const BlockCacheStatistics::Counts after = cache->threadCounts();
+  return {after.hits - before.hits, after.misses - before.misses};
+}
+
+TEST_CASE("sm-zstd keeps the cache's MiB of blocks per thread, least recently used out",
+          "[sm-zstd]") {
+  const SyntheticMap map = SyntheticMap::random(1024, DepthMode::Closed, 21);
+  // 16 KiB blocks: 1 MiB holds 64 of them, 16 sets of four ways, and the blocks whose Morton
+  // indices agree modulo 16 share a set.
+  const auto small = map.build(findScheme("sm-zstd"), {{"block", "64"}, {"cache", "1"}}, 512);
+  const auto large = map.build(findScheme("sm-zstd"), {{"block", "64"}, {"cache", "4"}}, 512);
+  const auto fourWays = cacheCounts(*small, {0, 16, 32, 48}, 3);
+  CHECK(fourWays.misses == 4);
+  CHECK(fourWays.hits == 8);
+  // A fifth block in the set evicts the least recently used: after the four still cached, every
+  // read of the cycle misses.
+  const auto fiveWays = cacheCounts(*small, {0, 16, 32, 48, 64}, 3);
+  CHECK(fiveWays.hits == 4);
+  CHECK(fiveWays.misses == 11);
+  // Least recently used, not first in: the set holds 16, 32, 48, 64 (16 the oldest); read again,
+  // 16 outlives 32 when 80 comes in.
+  CHECK(cacheCounts(*small, {16, 80, 16}, 1).hits == 2);
+  CHECK(cacheCounts(*small, {32}, 1).misses == 1);
+  // 4 MiB: 64 sets, the five blocks in five of them.
+  const auto roomy = cacheCounts(*large, {0, 16, 32, 48, 64}, 3);
+  CHECK(roomy.misses == 5);
+  CHECK(roomy.hits == 10);
+}
+
+TEST_CASE("sm-zstd refuses block sizes that are not powers of two and caches under 1 MiB",
+          "[sm-zstd]") {
   const SchemeInfo& scheme = findScheme("sm-zstd");
   const SyntheticMap map = SyntheticMap::random(16, DepthMode::Open, 1);
   auto message = [&](const Params& params) {
@@ -103,6 +150,7 @@ TEST_CASE("sm-zstd refuses block sizes that are not powers of two", "[sm-zstd]")
   CHECK_THAT(message({{"block", "4"}}), Catch::Contains("'sm-zstd'") && Catch::Contains("'block'"));
   CHECK_THAT(message({{"level", "20"}}),
              Catch::Contains("'sm-zstd'") && Catch::Contains("'level'"));
+  CHECK_THAT(message({{"cache", "0"}}), Catch::Contains("'sm-zstd'") && Catch::Contains("'cache'"));
 }
 
 TEST_CASE("sm-zstd rejects damaged block offsets and frames at load", "[sm-zstd][format]") {

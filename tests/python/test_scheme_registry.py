@@ -15,7 +15,7 @@ REGISTRY_DEFAULTS = {
                   "transitions": "aligned"},
     "dag-mh": {"treelet-height": "4", "chunk-size": "32", "skip-level": "6"},
     "mmh": {"search-distance": "1000"},
-    "sm-zstd": {"block": "64", "level": "3"},
+    "sm-zstd": {"block": "64", "level": "3", "cache": "4"},
 }
 
 
