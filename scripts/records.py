@@ -227,9 +227,18 @@ def counter(record, name):
     return _number(_section(record, "counters").get(name))
 
 
-def lookup_ns(record, query_set, k):
-    """ns per query on one thread of `query_set` with filter k×k, None if not timed."""
+def _lookup(record, query_set, k):
     for timing in record.get("lookup") or []:
         if timing.get("query_set") == query_set and timing.get("filter") == k:
-            return timing.get("ns_per_query_1t")
-    return None
+            return timing
+    return {}
+
+
+def lookup_ns(record, query_set, k):
+    """ns per query on one thread of `query_set` with filter k×k, None if not timed."""
+    return _lookup(record, query_set, k).get("ns_per_query_1t")
+
+
+def cache_hit_rate(record, query_set, k):
+    """The share of block reads a decoder's cache answered in that timing, None if it has none."""
+    return _lookup(record, query_set, k).get("cache_hit_rate")
