@@ -36,10 +36,12 @@ class DagMhDecoder final : public DepthDecoder<DagMhDecoder> {
 
   uint32_t resolution() const { return resolution_; }
   float depth(uint32_t i, uint32_t j) const { return values_.value(dag_.valueIndex(i, j)); }
-  template <class Visit>
-  void forEachDepthBlock(const TexelRect& rect, Visit&& visit) const {
-    dag_.forEachValueBlock(
-        rect, [&](uint32_t index, uint64_t texels) { visit(values_.value(index), texels); });
+  uint64_t litTexels(const TexelRect& rect, float z) const {
+    uint64_t lit = 0;
+    dag_.forEachValueBlock(rect, [&](uint32_t index, uint64_t texels) {
+      lit += z <= values_.value(index) ? texels : 0;
+    });
+    return lit;
   }
 
   SizeBreakdown size() const override {

@@ -4,12 +4,13 @@
 //     uint32_t resolution() const;
 //     float depth(uint32_t i, uint32_t j) const;   // the stored d of texel (i, j)
 // and gets batch lookups that call depth() directly: no virtual call per query or tap. A
-// structure that can answer a whole kernel in one walk supplies forEachDepthBlock as well (see
+// structure that can answer a whole kernel in one walk supplies litTexels as well (see
 // KernelWalk), and its PCF lookups walk it once per kernel instead of once per tap.
 #pragma once
 
 #include <algorithm>
 #include <bit>
+#include <concepts>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -58,14 +59,13 @@ inline uint64_t overlap(const TexelRect& rect, uint32_t x0, uint32_t y0, uint32_
   return i0 > i1 || j0 > j1 ? 0 : uint64_t(i1 - i0 + 1) * (j1 - j0 + 1);
 }
 
-// Issue 13: a structure walked once per kernel. forEachDepthBlock(rect, visit) calls
-// visit(float depth, uint64_t texels) for disjoint blocks of texels that together cover `rect`,
-// each block's texels all storing `depth` (what depth(i, j) returns for each). A block larger
-// than a texel is a node of the structure that decides its whole region (the MH reference code's
-// kernel lookup), so its taps are tested once.
+// Issue 13: a structure walked once per kernel. litTexels(rect, z) counts the texels (i, j) of
+// `rect` with z ≤ depth(i, j), exactly as testing each would, but a block of texels that one
+// node of the structure decides (the MH reference code's kernel lookup), or one line segment,
+// is tested once.
 template <class Self>
-concept KernelWalk = requires(const Self& self, const TexelRect& rect) {
-  self.forEachDepthBlock(rect, [](float, uint64_t) {});
+concept KernelWalk = requires(const Self& self, const TexelRect& rect, float z) {
+  { self.litTexels(rect, z) } -> std::convertible_to<uint64_t>;
 };
 
 // Exact k×k PCF from a kernel walk: the answers of pcfLookup, tap for tap, since every texel is
@@ -85,9 +85,8 @@ void kernelLookup(const Self& self, std::span<const Query> queries, int k,
     if (i0 <= i1 && j0 <= j1) {
       // Taps off the map count as lit.
       lit -= uint64_t(i1 - i0 + 1) * uint64_t(j1 - j0 + 1);
-      self.forEachDepthBlock(
-          TexelRect{uint32_t(i0), uint32_t(j0), uint32_t(i1), uint32_t(j1)},
-          [&](float depth, uint64_t texels) { lit += query.z <= depth ? texels : 0; });
+      lit += self.litTexels(TexelRect{uint32_t(i0), uint32_t(j0), uint32_t(i1), uint32_t(j1)},
+                            query.z);
     }
     visibility[q] = float(lit) / float(taps);
   }

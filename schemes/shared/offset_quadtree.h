@@ -144,10 +144,11 @@ class OffsetQuadtreeDecoder final : public HierarchicalDepthDecoder<OffsetQuadtr
   float depth(uint32_t i, uint32_t j) const {
     return depthOfKey(tree_.texelKey<mode>(i, j, tree_.levels));
   }
-  template <class Visit>
-  void forEachDepthBlock(const TexelRect& rect, Visit&& visit) const {
+  uint64_t litTexels(const TexelRect& rect, float z) const {
+    uint64_t lit = 0;
     tree_.forEachKeyBlock<mode>(
-        rect, [&](uint32_t key, uint64_t texels) { visit(depthOfKey(key), texels); });
+        rect, [&](uint32_t key, uint64_t texels) { lit += z <= depthOfKey(key) ? texels : 0; });
+    return lit;
   }
   float coarseDepth(uint32_t i, uint32_t j, int coarser) const {
     return depthOfKey(tree_.texelKey<mode>(i << coarser, j << coarser, tree_.levels - coarser));

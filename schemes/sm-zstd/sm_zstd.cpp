@@ -134,8 +134,8 @@ class SmZstdDecoder final : public DepthDecoder<SmZstdDecoder>, public BlockCach
     return texels[size_t(j % blockSide_) * blockSide_ + i % blockSide_];
   }
   // Issue 13: a kernel reads each block it overlaps from the cache once, not once per tap.
-  template <class Visit>
-  void forEachDepthBlock(const TexelRect& rect, Visit&& visit) const {
+  uint64_t litTexels(const TexelRect& rect, float z) const {
+    uint64_t lit = 0;
     for (uint32_t by = rect.j0 / blockSide_; by <= rect.j1 / blockSide_; ++by)
       for (uint32_t bx = rect.i0 / blockSide_; bx <= rect.i1 / blockSide_; ++bx) {
         const float* texels = decodedBlock(mortonCode(bx, by));
@@ -144,8 +144,9 @@ class SmZstdDecoder final : public DepthDecoder<SmZstdDecoder>, public BlockCach
         const uint32_t j0 = std::max(rect.j0, y0), j1 = std::min(rect.j1, y0 + blockSide_ - 1);
         for (uint32_t j = j0; j <= j1; ++j)
           for (uint32_t i = i0; i <= i1; ++i)
-            visit(texels[size_t(j - y0) * blockSide_ + (i - x0)], 1);
+            lit += z <= texels[size_t(j - y0) * blockSide_ + (i - x0)];
       }
+    return lit;
   }
 
   const BlockCacheStatistics* blockCacheStatistics() const override { return this; }
