@@ -164,7 +164,9 @@ struct Dag {
     const bool columns[2] = {rect.i0 < midX, rect.i1 >= midX};
     const bool rows[2] = {rect.j0 < midY, rect.j1 >= midY};
     uint32_t valueStart = at.valueStart;
-    for (int k = 0; k < kMhChildren; ++k) {
+    // The children after the last one entered need no value count.
+    const int lastEntered = int(rows[1]) << 1 | int(columns[1]);
+    for (int k = 0; k <= lastEntered; ++k) {
       const uint32_t flag = childFlag(header, k);
       const bool entered = columns[k & 1] && rows[k >> 1];
       const uint32_t cx = x0 + (k & 1) * half, cy = y0 + (k >> 1) * half;

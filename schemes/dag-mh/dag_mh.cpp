@@ -37,9 +37,14 @@ class DagMhDecoder final : public DepthDecoder<DagMhDecoder> {
   uint32_t resolution() const { return resolution_; }
   float depth(uint32_t i, uint32_t j) const { return values_.value(dag_.valueIndex(i, j)); }
   uint64_t litTexels(const TexelRect& rect, float z) const {
+    // Neighbouring blocks often hold one value (missing children answer the value above): each
+    // run of one index is decoded from its chunk once.
     uint64_t lit = 0;
+    uint32_t lastIndex = ValueChunks::kMaxValues;  // no index yet
+    bool lastLit = false;
     dag_.forEachValueBlock(rect, [&](uint32_t index, uint64_t texels) {
-      lit += z <= values_.value(index) ? texels : 0;
+      if (index != lastIndex) lastLit = z <= values_.value(lastIndex = index);
+      lit += lastLit ? texels : 0;
     });
     return lit;
   }

@@ -2,7 +2,6 @@
 // with zstd. A general-purpose lossless codec as a reference point for the structured schemes:
 // lossless like sm32, and a lookup pays for decompressing the block its texel lies in.
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <bit>
 #include <cstring>
