@@ -211,7 +211,17 @@ def component_bytes(record, *names):
 
 
 def total_seconds(record):
-    return _section(record, "time_s").get("total")
+    """The scheme's build time. Where its depth pass was shared with other schemes
+    (time_s.depth_shared_with), the record's total is the wall time of the whole group, every
+    scheme's encoders included, so the scheme's own time is the depth time plus its phases."""
+    time = _section(record, "time_s")
+    if not time.get("depth_shared_with"):
+        return time.get("total")
+    depth, phases = _number(time.get("depth")), time.get("phases")
+    if depth is None or not isinstance(phases, dict):
+        return None
+    seconds = [_number(value) for value in phases.values()]
+    return None if None in seconds else depth + sum(seconds)
 
 
 def depth_seconds(record):

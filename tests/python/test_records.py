@@ -5,8 +5,10 @@ import io
 import json
 
 import support
-from records import (RecordFiles, SchemaUnavailable, component_bytes, is_complete_record,
-                     is_newer, lookup_ns, newest_per_cell, read_records)
+from cells import without_depth
+from records import (RecordFiles, SchemaUnavailable, cache_hit_rate, component_bytes,
+                     is_complete_record, is_newer, lookup_ns, newest_per_cell, read_records,
+                     total_seconds)
 
 # A schema of the test's own, so that the validation path is tested whether or not the checkout
 # has harness/record.schema.json: sizes must be integers of at least 0.
@@ -161,6 +163,19 @@ class Fields(support.TemporaryFolder):
         timing = next(t for t in record["lookup"] if t["query_set"] == "view" and t["filter"] == 9)
         self.assertEqual(lookup_ns(record, "view", 9), timing["ns_per_query_1t"])
         self.assertIsNone(lookup_ns(record, "view", 2))
+        self.assertIsNone(cache_hit_rate(record, "view", 9))
+        self.assertEqual(cache_hit_rate({"lookup": [{**timing, "cache_hit_rate": 0.5}]}, "view", 9),
+                         0.5)
+
+    def test_a_shared_depth_pass_counts_the_depth_and_the_scheme_s_own_phases(self):
+        alone = {"time_s": {"total": 30.0, "depth": 10.0, "phases": {"insert": 5.0}}}
+        self.assertEqual(total_seconds(alone), 30.0)
+        # Six schemes from one depth pass: the total is the whole group's wall time.
+        shared = {"time_s": {"total": 3168.0, "depth": 557.0, "depth_shared_with": ["cpvs"],
+                             "phases": {"insert": 22.0, "merge": 49.0}}}
+        self.assertEqual(total_seconds(shared), 557.0 + 22.0 + 49.0)
+        self.assertEqual(without_depth(shared), 22.0 + 49.0)
+        self.assertIsNone(total_seconds({"time_s": {**shared["time_s"], "phases": {"x": "1"}}}))
 
 
 class Duplicates(support.TemporaryFolder):
