@@ -150,7 +150,7 @@ class Sweeper {
     return false;
   }
 
-  // Builds cells of one map from one depth pass, in batches that fit in memory together; the
+  // Builds cells of one depth pass from that pass, in batches that fit in memory together; the
   // caller holds their locks. Each record is written as soon as its cell is complete.
   void buildTogether(const std::vector<const PlannedCell*>& cells) {
     for (const std::vector<const PlannedCell*>& batch : batchesThatFit(cells)) {
@@ -256,18 +256,22 @@ class Sweeper {
 SweepOutcome runSweep(const SweepSpec& spec, const SweepEvents& events) {
   const SweepPlan planned = plan(spec);
   Sweeper sweeper(spec, events);
-  // Cells of one map are adjacent once sorted by it: scene, mode, resolution.
+  // Cells of one depth pass are adjacent once sorted by it: scene, mode, resolution, tile and
+  // part size. A scheme that builds only whole does not share the pass of those built in parts
+  // of the same map (one traces the map once, the other once per part).
   std::vector<const PlannedCell*> order;
   for (const PlannedCell& cell : planned.cells) order.push_back(&cell);
-  const auto mapOf = [](const PlannedCell* cell) {
-    return std::tuple(cell->scene, cell->spec.mode, cell->spec.resolution);
+  const auto depthPassOf = [](const PlannedCell* cell) {
+    return std::tuple(cell->scene, cell->spec.mode, cell->spec.resolution, cell->spec.tileSize,
+                      cell->spec.partSize);
   };
-  std::stable_sort(order.begin(), order.end(),
-                   [&](const PlannedCell* a, const PlannedCell* b) { return mapOf(a) < mapOf(b); });
+  std::stable_sort(order.begin(), order.end(), [&](const PlannedCell* a, const PlannedCell* b) {
+    return depthPassOf(a) < depthPassOf(b);
+  });
   std::vector<const PlannedCell*> heldElsewhere;
   for (size_t begin = 0; begin < order.size();) {
     size_t end = begin;
-    while (end < order.size() && mapOf(order[end]) == mapOf(order[begin])) ++end;
+    while (end < order.size() && depthPassOf(order[end]) == depthPassOf(order[begin])) ++end;
     std::vector<CellLock> locks;
     std::vector<const PlannedCell*> toBuild;
     for (size_t c = begin; c < end; ++c) {

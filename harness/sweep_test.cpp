@@ -253,3 +253,34 @@ TEST_CASE("a sweep in parts is its own cell, built once, and its schemes share o
     partRecords += sb::loadRecord(spec.out / name).partSize == 64;
   CHECK(partRecords == 1);
 }
+
+// A sweep with a part size below its resolution put the schemes built in parts and one that
+// builds only whole (sm-zstd) in one depth pass, which refused them all ("cells built from one
+// depth pass must share … part size"): every such cell was skipped.
+TEST_CASE("schemes built in parts and one built whole take a depth pass each",
+          "[sweep][parts][regression]") {
+  ScratchDir dir("sb-sweep-test");
+  sb::SweepSpec spec = tinySweep(dir.path() / "out");
+  spec.schemes = {"sm32", "sm-zstd", "mh"};
+  spec.resolutions = {"128"};
+  spec.partSize = 64;
+  spec.cellOptions.partsRoot = dir.path() / "parts";
+  std::vector<sb::Record> built;
+  sb::SweepEvents events;
+  std::vector<std::string> warnings;
+  events.built = [&](const sb::Record& record) { built.push_back(record); };
+  events.warning = [&](const std::string& message) { warnings.push_back(message); };
+  const sb::SweepOutcome outcome = sb::runSweep(spec, events);
+  CHECK(warnings.empty());
+  CHECK(outcome.failed == 0);
+  REQUIRE(outcome.built == 3);
+  for (const sb::Record& record : built) {
+    INFO(record.scheme.name);
+    const bool whole = record.scheme.name == "sm-zstd";
+    CHECK(record.partSize == (whole ? 0u : 64u));
+    REQUIRE(record.verification);
+    CHECK(record.verification->mismatches == 0);
+    // sm32 and mh share the pass over the parts; sm-zstd traced the map alone.
+    CHECK(record.time->depthSharedWith.size() == (whole ? 0u : 1u));
+  }
+}
