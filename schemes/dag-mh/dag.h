@@ -154,9 +154,12 @@ struct Dag {
                 Visit& visit) const {
     const uint32_t side = uint32_t(1) << (levels - at.level);
     if (at.kind == Traversal::kNone) return visit(at.lastValue, overlap(rect, x0, y0, side));
-    if (at.kind == Traversal::kTreelet)
-      return walkTreelet(treeletAt(at.node), 0, 0, std::min(treelet.height - 1, levels - at.level),
-                         at.valueStart, at.lastValue, x0, y0, side, rect, visit);
+    if (at.kind == Traversal::kTreelet) {
+      const uint32_t* bits = treeletAt(at.node);
+      return walkTreelet(bits, TreeletRanks(treelet, bits), 0, 0,
+                         std::min(treelet.height - 1, levels - at.level), at.valueStart,
+                         at.lastValue, x0, y0, side, rect, visit);
+    }
     const uint32_t* node = innerNodes.data() + at.node;
     const uint32_t header = node[0], half = side / 2;
     const uint32_t* pointer = node + 1;
@@ -190,17 +193,17 @@ struct Dag {
   // side `side` at (x0, y0), which overlaps `rect`; `inherited` is the value its path gives so
   // far. Alg. 1 on every path at once: the deepest node with a value answers.
   template <class Visit>
-  void walkTreelet(const uint32_t* bits, uint32_t n, int d, int deepest, uint32_t valueStart,
-                   uint32_t inherited, uint32_t x0, uint32_t y0, uint32_t side,
+  void walkTreelet(const uint32_t* bits, const TreeletRanks& ranks, uint32_t n, int d, int deepest,
+                   uint32_t valueStart, uint32_t inherited, uint32_t x0, uint32_t y0, uint32_t side,
                    const TexelRect& rect, Visit& visit) const {
-    if (treelet.hasValue(bits, n)) inherited = valueStart + treelet.valuesBefore(bits, n);
-    if (d == deepest || treelet.valuesIn(bits, n + 1, n + treelet.subtreeBits[d]) == 0)
+    if (treelet.hasValue(bits, n)) inherited = valueStart + ranks.valuesBefore(n);
+    if (d == deepest || ranks.valuesIn(n + 1, n + treelet.subtreeBits[d]) == 0)
       return visit(inherited, overlap(rect, x0, y0, side));
     const uint32_t half = side / 2;
     for (int l = 0; l < kMhChildren; ++l) {
       const uint32_t cx = x0 + (l & 1) * half, cy = y0 + (l >> 1) * half;
       if (overlap(rect, cx, cy, half) != 0)
-        walkTreelet(bits, n + 1 + uint32_t(l) * treelet.subtreeBits[d + 1], d + 1, deepest,
+        walkTreelet(bits, ranks, n + 1 + uint32_t(l) * treelet.subtreeBits[d + 1], d + 1, deepest,
                     valueStart, inherited, cx, cy, half, rect, visit);
     }
   }

@@ -156,6 +156,28 @@ TEST_CASE("dag-mh: treelet shapes follow §3.2 and §3.4", "[dag-mh]") {
   CHECK(four.lookup(treelet.data(), 0b01, 0b10, 1, 3) == 2u);
 }
 
+TEST_CASE("dag-mh: treelet ranks count the set node bits one by one would", "[dag-mh]") {
+  uint64_t state = 13;
+  for (int height = 1; height <= kMaxTreeletHeight; ++height) {
+    const TreeletShape shape = TreeletShape::of(height);
+    for (int trial = 0; trial < 20; ++trial) {
+      std::vector<uint32_t> treelet(shape.words, 0);
+      for (uint32_t n = 0; n < shape.bits; ++n)
+        if (nextRandom(state) % 3 == 0) shape.setValue(treelet.data(), n);
+      treelet[0] |= uint32_t(nextRandom(state)) & ((1u << shape.countBits) - 1);  // count bits
+      const TreeletRanks ranks(shape, treelet.data());
+      std::vector<uint32_t> before(shape.bits + 1, 0);
+      for (uint32_t n = 0; n < shape.bits; ++n)
+        before[n + 1] = before[n] + (shape.hasValue(treelet.data(), n) ? 1 : 0);
+      for (uint32_t first = 0; first <= shape.bits; ++first) {
+        REQUIRE(ranks.valuesBefore(first) == before[first]);
+        for (uint32_t end = first; end <= shape.bits; end += 7)
+          REQUIRE(ranks.valuesIn(first, end) == before[end] - before[first]);
+      }
+    }
+  }
+}
+
 TEST_CASE("dag-mh: every value of the chunked list lies in its interval", "[dag-mh]") {
   for (const uint32_t chunkSize : {16u, 32u, 64u, 128u})
     for (const size_t count : {size_t(1), size_t(15), size_t(129), size_t(5000)})
