@@ -78,8 +78,7 @@ class ValueChunks {
     const uint32_t bytes = (reference >> kFactorBytesShift) + 1;
     const uint8_t* at =
         factors_.data() + (reference & kOffsetMask) + size_t(v - coveredBefore) * bytes;
-    uint32_t factor = 0;
-    std::memcpy(&factor, at, bytes);  // little-endian machines only, like the whole file format
+    const uint32_t factor = uint32_t(loadBytes(at, bytes));
     if (bytes == 4) return std::bit_cast<float>(factor);
     return factorValue(read<float>(info + kFactorLowAt), read<float>(info + kFactorStepAt), factor);
   }
@@ -102,11 +101,21 @@ class ValueChunks {
     std::memcpy(&value, at, sizeof(T));
     return value;
   }
+  // The `n` (1 to 8) bytes at `at` as a little-endian number (little-endian machines only, like
+  // the whole file format). Two fixed-size loads that may overlap, not a copy of `n` bytes: a
+  // copy of a run-time length becomes a byte loop whose stores stall the load that follows.
+  static uint64_t loadBytes(const uint8_t* at, uint32_t n) {
+    if (n >= 4) {
+      const uint64_t low = read<uint32_t>(at), high = read<uint32_t>(at + n - 4);
+      return low | high << (8 * (n - 4));
+    }
+    return uint64_t(at[0]) | uint64_t(at[n / 2]) << (8 * (n / 2)) |
+           uint64_t(at[n - 1]) << (8 * (n - 1));
+  }
   // The low `count` (< 64) bits of the bitmask word at `at`, reading only the bytes they need.
   static uint64_t readBits(const uint8_t* at, uint32_t count) {
-    uint64_t bits = 0;
-    std::memcpy(&bits, at, (count + 7) / 8);
-    return bits & ((uint64_t(1) << count) - 1);
+    if (count == 0) return 0;
+    return loadBytes(at, (count + 7) / 8) & ((uint64_t(1) << count) - 1);
   }
 
   // Encodes the next chunk (at most chunkSize_ values).

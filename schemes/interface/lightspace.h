@@ -36,8 +36,10 @@ inline float voxelCentre(uint32_t k, uint32_t depthResolution) {
   return (float(k) + 0.5f) / float(depthResolution);
 }
 
+// The widest PCF kernel a lookup answers (k × k taps).
+inline constexpr int kMaxFilterSize = 17;
 inline bool validFilterSize(int k) {
-  return k >= 1 && k <= 17 && k % 2 == 1;
+  return k >= 1 && k <= kMaxFilterSize && k % 2 == 1;
 }
 
 }  // namespace sb
