@@ -3,21 +3,25 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "scenes/scene.h"
 
 namespace sb::detail {
 
-Scene generateCity(uint32_t size, uint64_t seed);
+Scene generateCity(const GeneratorKnobs& knobs);
 Scene generateTerrain(uint32_t size, uint64_t seed);
 Scene generateForest(uint32_t size, uint64_t seed);
 Scene generateTangle(uint32_t size, uint64_t seed);
 
 // GeneratorInfo::footprint of each generator; like the generator, each throws a SceneError
 // for a size outside the generator's range.
-SceneFootprint cityFootprint(uint32_t size);
+SceneFootprint cityFootprint(const GeneratorKnobs& knobs);
+std::vector<StyleKnob> cityStyleKnobs();
+std::vector<GeneratorPreset> cityPresets();
 SceneFootprint terrainFootprint(uint32_t size);
 SceneFootprint forestFootprint(uint32_t size);
 SceneFootprint tangleFootprint(uint32_t size);
@@ -31,8 +35,15 @@ constexpr uint64_t grownMeshBytes(uint64_t vertices, uint64_t triangles) {
 // Throws a SceneError naming the generator when `size` lies outside [min, max].
 void checkSize(std::string_view generator, uint32_t size, uint32_t min, uint32_t max);
 
-// "city:size=6,seed=1": the name of a generated scene, which openScene reads back.
-std::string generatedSceneName(std::string_view generator, uint32_t size, uint64_t seed);
+// Throws a SceneError naming the generator when `knobs` sets more style knobs than it has, or
+// one above its maximum.
+void checkStyleKnobs(std::string_view generator, const GeneratorKnobs& knobs,
+                     std::span<const StyleKnob> styleKnobs);
+
+// "city:size=6,seed=1" (",relief=40" for each style knob that is not 0): the name of a generated
+// scene, which openScene reads back.
+std::string generatedSceneName(std::string_view generator, const GeneratorKnobs& knobs,
+                               std::span<const StyleKnob> styleKnobs = {});
 
 // A model file read by Assimp: one mesh per model mesh, the default light. Closed meshes must
 // be watertight and wound outward; a model whose header declares more than the file can hold,

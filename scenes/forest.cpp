@@ -98,7 +98,7 @@ Scene generateForest(uint32_t size, uint64_t seed) {
   const int n = static_cast<int>(size);
   const float half = 0.5f * kSpacing * n;
   Scene scene;
-  scene.name = generatedSceneName("forest", size, seed);
+  scene.name = generatedSceneName("forest", {size, seed});
 
   Mesh ground;
   ground.name = "ground";

@@ -124,19 +124,53 @@ LightSpec defaultLight() {
   return light;
 }
 
+namespace {
+
+// A generator of a size and a seed alone.
+template <Scene (*Generate)(uint32_t, uint64_t), SceneFootprint (*Footprint)(uint32_t)>
+GeneratorInfo withoutStyle(GeneratorInfo info) {
+  info.generate = [name = info.name](const GeneratorKnobs& knobs) {
+    detail::checkStyleKnobs(name, knobs, {});
+    return Generate(knobs.size, knobs.seed);
+  };
+  info.footprint = [name = info.name](const GeneratorKnobs& knobs) {
+    detail::checkStyleKnobs(name, knobs, {});
+    return Footprint(knobs.size);
+  };
+  return info;
+}
+
+}  // namespace
+
 const std::vector<GeneratorInfo>& sceneGenerators() {
   static const std::vector<GeneratorInfo> generators = {
-      {"city",
-       "closed city: box buildings with setbacks and spires on a ground slab; size = blocks per "
-       "side",
-       6, 36, detail::generateCity, detail::cityFootprint},
-      {"terrain", "closed fractal landscape solid; size = grid cells per side", 128, 1024,
-       detail::generateTerrain, detail::terrainFootprint},
-      {"forest",
-       "open trees: tube trunks and branches, leaf cards, ground quad; size = trees per side", 8,
-       45, detail::generateForest, detail::forestFootprint},
-      {"tangle", "dense knot of closed tubes in a ball (hairball stand-in); size = number of tubes",
-       12, 650, detail::generateTangle, detail::tangleFootprint},
+      {.name = "city",
+       .description =
+           "closed city: box buildings with setbacks and spires on a ground slab; size = "
+           "blocks per side",
+       .defaultSize = 6,
+       .fullSize = 36,
+       .styleKnobs = detail::cityStyleKnobs(),
+       .presets = detail::cityPresets(),
+       .generate = detail::generateCity,
+       .footprint = detail::cityFootprint},
+      withoutStyle<detail::generateTerrain, detail::terrainFootprint>(
+          {.name = "terrain",
+           .description = "closed fractal landscape solid; size = grid cells per side",
+           .defaultSize = 128,
+           .fullSize = 1024}),
+      withoutStyle<detail::generateForest, detail::forestFootprint>(
+          {.name = "forest",
+           .description = "open trees: tube trunks and branches, leaf cards, ground quad; size = "
+                          "trees per side",
+           .defaultSize = 8,
+           .fullSize = 45}),
+      withoutStyle<detail::generateTangle, detail::tangleFootprint>(
+          {.name = "tangle",
+           .description =
+               "dense knot of closed tubes in a ball (hairball stand-in); size = number of tubes",
+           .defaultSize = 12,
+           .fullSize = 650}),
   };
   return generators;
 }
@@ -149,8 +183,24 @@ void checkSize(std::string_view generator, uint32_t size, uint32_t min, uint32_t
         fmt::format("generator '{}': size {} out of range [{}, {}]", generator, size, min, max));
 }
 
-std::string generatedSceneName(std::string_view generator, uint32_t size, uint64_t seed) {
-  return fmt::format("{}:size={},seed={}", generator, size, seed);
+void checkStyleKnobs(std::string_view generator, const GeneratorKnobs& knobs,
+                     std::span<const StyleKnob> styleKnobs) {
+  if (knobs.style.size() > styleKnobs.size())
+    throw SceneError(fmt::format("generator '{}': {} style knobs given, it has {}", generator,
+                                 knobs.style.size(), styleKnobs.size()));
+  for (size_t k = 0; k < knobs.style.size(); ++k)
+    if (knobs.style[k] > styleKnobs[k].max)
+      throw SceneError(fmt::format("generator '{}': {} {} out of range [0, {}]", generator,
+                                   styleKnobs[k].name, knobs.style[k], styleKnobs[k].max));
+}
+
+std::string generatedSceneName(std::string_view generator, const GeneratorKnobs& knobs,
+                               std::span<const StyleKnob> styleKnobs) {
+  std::string name = fmt::format("{}:size={},seed={}", generator, knobs.size, knobs.seed);
+  for (size_t k = 0; k < styleKnobs.size(); ++k)
+    if (knobs.styleKnob(k) != 0)
+      name += fmt::format(",{}={}", styleKnobs[k].name, knobs.styleKnob(k));
+  return name;
 }
 
 bool isValidMeshName(std::string_view name) {
@@ -210,39 +260,61 @@ std::optional<uint64_t> parseUnsigned(std::string_view text) {
   return value;
 }
 
-// "full" | "size=N" | "seed=N", comma-separated, each at most once.
+// "full" | a preset's name | "size=N" | "seed=N" | "<style knob>=N", comma-separated; each knob
+// set at most once (full sets the size, a preset the size, the seed and the style knobs).
 Scene openGenerator(const GeneratorInfo& generator, std::string_view spec, std::string_view knobs,
                     uint64_t memoryLimitBytes) {
   auto fail = [&](const std::string& problem) {
-    throw SceneError(fmt::format(
-        "scene '{}': {} (knobs of '{}': size=N, seed=N, full; e.g. '{}:size={},seed=7')", spec,
-        problem, generator.name, generator.name, generator.defaultSize));
+    std::string names = "size=N, seed=N, full";
+    for (const StyleKnob& knob : generator.styleKnobs) names += ", " + knob.name + "=N";
+    for (const GeneratorPreset& preset : generator.presets) names += ", " + preset.name;
+    throw SceneError(fmt::format("scene '{}': {} (knobs of '{}': {}; e.g. '{}:size={},seed=7')",
+                                 spec, problem, generator.name, names, generator.name,
+                                 generator.defaultSize));
   };
   constexpr auto npos = std::string_view::npos;
-  std::optional<uint64_t> size, seed;
+  // size, seed, then the style knobs.
+  std::vector<std::string_view> keys{"size", "seed"};
+  for (const StyleKnob& knob : generator.styleKnobs) keys.push_back(knob.name);
+  std::vector<std::optional<uint64_t>> values(keys.size());
+  auto set = [&](size_t key, uint64_t value) {
+    if (values[key]) fail(fmt::format("{} given twice", keys[key]));
+    values[key] = value;
+  };
   for (std::string_view rest = knobs; !rest.empty();) {
     const size_t comma = rest.find(',');
     const std::string_view knob = rest.substr(0, comma);
     rest = comma == npos ? std::string_view{} : rest.substr(comma + 1);
     if (comma != npos && rest.empty()) fail("trailing comma");
     if (knob == "full") {
-      if (size) fail("size given twice");
-      size = generator.fullSize;
+      set(0, generator.fullSize);
+      continue;
+    }
+    const auto preset = std::find_if(generator.presets.begin(), generator.presets.end(),
+                                     [&](const GeneratorPreset& p) { return p.name == knob; });
+    if (preset != generator.presets.end()) {
+      set(0, preset->size);
+      set(1, preset->seed);
+      for (size_t k = 0; k < preset->style.size(); ++k) set(2 + k, preset->style[k]);
       continue;
     }
     const size_t equals = knob.find('=');
-    const std::string_view key = knob.substr(0, equals);
-    if (key != "size" && key != "seed") fail(fmt::format("unknown knob '{}'", knob));
-    std::optional<uint64_t>& target = key == "size" ? size : seed;
+    const auto key = std::find(keys.begin(), keys.end(), knob.substr(0, equals));
+    if (key == keys.end()) fail(fmt::format("unknown knob '{}'", knob));
     const std::optional<uint64_t> value =
         equals == npos ? std::nullopt : parseUnsigned(knob.substr(equals + 1));
     if (!value) fail(fmt::format("knob '{}' needs a non-negative integer value", knob));
-    if (target) fail(fmt::format("{} given twice", key));
-    target = value;
+    set(size_t(key - keys.begin()), *value);
   }
-  if (size && *size > std::numeric_limits<uint32_t>::max())
-    fail(fmt::format("size {} is too large", *size));
-  const uint32_t chosenSize = size ? static_cast<uint32_t>(*size) : generator.defaultSize;
+  GeneratorKnobs chosen{generator.defaultSize, values[1].value_or(1), {}};
+  for (size_t k = 0; k < keys.size(); ++k) {
+    if (k == 1 || !values[k]) continue;
+    if (*values[k] > std::numeric_limits<uint32_t>::max())
+      fail(fmt::format("{} {} is too large", keys[k], *values[k]));
+    if (k == 0) chosen.size = static_cast<uint32_t>(*values[k]);
+  }
+  for (size_t k = 2; k < keys.size(); ++k)
+    chosen.style.push_back(static_cast<uint32_t>(values[k].value_or(0)));
   // The generator's own errors name the generator; the spec is put before them.
   auto namingSpec = [&](auto&& call) {
     try {
@@ -251,11 +323,11 @@ Scene openGenerator(const GeneratorInfo& generator, std::string_view spec, std::
       throw SceneError(fmt::format("scene '{}': {}", spec, e.what()));
     }
   };
-  const SceneFootprint footprint = namingSpec([&] { return generator.footprint(chosenSize); });
+  const SceneFootprint footprint = namingSpec([&] { return generator.footprint(chosen); });
   detail::checkFitsInMemory(fmt::format("scene '{}'", spec),
                             fmt::format("generating up to {} triangles", footprint.triangles),
                             footprint.bytes, memoryLimitBytes, "choose a smaller size");
-  Scene scene = namingSpec([&] { return generator.generate(chosenSize, seed.value_or(1)); });
+  Scene scene = namingSpec([&] { return generator.generate(chosen); });
   detail::validateScene(scene, spec);
   return scene;
 }

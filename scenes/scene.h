@@ -80,17 +80,48 @@ struct SceneFootprint {
   uint64_t bytes = 0;                    // memory at the peak of building it
 };
 
-// A deterministic procedural scene generator: the same (size, seed) gives the same bytes on
-// every machine (own PRNG, no std distributions). `size` is the generator's own knob.
+// A knob of a generator beyond size and seed ("relief=40"): an integer in [0, max], 0 by
+// default, where 0 leaves the scene as the generator builds it without the knob.
+struct StyleKnob {
+  std::string name;
+  std::string description;
+  uint32_t max;
+};
+
+// The knobs of a procedural generator. `size` is the generator's own scale; `style` holds the
+// generator's style knobs in the order of GeneratorInfo::styleKnobs (missing ones are 0).
+struct GeneratorKnobs {
+  uint32_t size = 0;
+  uint64_t seed = 1;
+  std::vector<uint32_t> style{};
+  uint32_t styleKnob(size_t index) const { return index < style.size() ? style[index] : 0; }
+};
+
+// A named setting of all a generator's knobs ("city:cityscape"). A calibrated stand-in names the
+// published curve its knobs were fitted to (README, "Calibrated stand-ins"); the seed is part of
+// the fit.
+struct GeneratorPreset {
+  std::string name;
+  uint32_t size;
+  uint64_t seed;
+  std::vector<uint32_t> style;
+  std::string fittedTo;
+};
+
+// A deterministic procedural scene generator: the same knobs give the same bytes on every
+// machine (own PRNG, no std distributions).
 struct GeneratorInfo {
   std::string name;
   std::string description;
   uint32_t defaultSize;  // small enough for CI
   uint32_t fullSize;     // the papers' scale
-  std::function<Scene(uint32_t size, uint64_t seed)> generate;
+  std::vector<StyleKnob> styleKnobs{};
+  std::vector<GeneratorPreset> presets{};
+  // Both throw a SceneError naming the generator for a size or style knob out of range.
+  std::function<Scene(const GeneratorKnobs&)> generate{};
   // An upper bound for every seed, so that a size too large for the memory is refused before
   // anything is allocated.
-  std::function<SceneFootprint(uint32_t size)> footprint;
+  std::function<SceneFootprint(const GeneratorKnobs&)> footprint{};
 };
 
 const std::vector<GeneratorInfo>& sceneGenerators();
@@ -98,7 +129,8 @@ const std::vector<GeneratorInfo>& sceneGenerators();
 // Opens a scene by specification:
 //   "city"                     generator at its default size and seed 1
 //   "city:full"                generator at its full size
-//   "city:size=40,seed=7"      explicit knobs
+//   "city:size=40,seed=7"      explicit knobs, and the generator's style knobs ("relief=40")
+//   "city:cityscape"           a preset of all the generator's knobs
 //   "path/scene.json"          a scene file (meshes, transforms, closedness, lights)
 //   "path/model.obj|glb|ply…"  any model Assimp reads; one mesh per model mesh and a default
 //                              directional light; the meshes are open, or with

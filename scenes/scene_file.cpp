@@ -11,6 +11,7 @@
 #include <iterator>
 #include <limits>
 #include <set>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -168,6 +169,10 @@ class JsonReader {
   // An object whose keys are all among `allowed`.
   void object(const json& value, std::string_view where,
               std::initializer_list<std::string_view> allowed) const {
+    object(value, where, std::span(allowed.begin(), allowed.end()));
+  }
+  void object(const json& value, std::string_view where,
+              std::span<const std::string_view> allowed) const {
     if (!value.is_object()) fail(where, "expected an object");
     for (const auto& item : value.items())
       if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end())
@@ -354,16 +359,34 @@ Mesh readGenerated(const JsonReader& in, const json& value, const std::string& w
   if (const json* s = member(value, "size")) size = in.count(*s, at(where, "size"));
   if (const json* s = member(value, "seed")) seed = in.count(*s, at(where, "seed"));
   if (size > std::numeric_limits<uint32_t>::max()) in.fail(at(where, "size"), "too large");
+  GeneratorKnobs knobs{static_cast<uint32_t>(size), seed, {}};
+  // "style": {"relief": 40}, the generator's style knobs by name.
+  if (const json* style = member(value, "style")) {
+    const std::string styleWhere = at(where, "style");
+    if (generator->styleKnobs.empty())
+      in.fail(styleWhere, fmt::format("generator '{}' has no style knobs", name));
+    std::vector<std::string_view> names;
+    for (const StyleKnob& knob : generator->styleKnobs) names.push_back(knob.name);
+    in.object(*style, styleWhere, names);
+    for (const StyleKnob& knob : generator->styleKnobs) {
+      const json* setting = member(*style, knob.name.c_str());
+      const uint64_t chosen = setting ? in.count(*setting, at(styleWhere, knob.name)) : 0;
+      if (chosen > knob.max)
+        in.fail(at(styleWhere, knob.name),
+                fmt::format("{} out of range [0, {}]", chosen, knob.max));
+      knobs.style.push_back(static_cast<uint32_t>(chosen));
+    }
+  }
   Scene scene;
   try {
     // The generated meshes, then their merged copy.
-    const SceneFootprint footprint = generator->footprint(static_cast<uint32_t>(size));
+    const SceneFootprint footprint = generator->footprint(knobs);
     detail::checkFitsInMemory(fmt::format("scene '{}': {}", in.origin(), where),
                               fmt::format("generating up to {} triangles", footprint.triangles),
                               footprint.bytes + footprint.vertices * sizeof(glm::vec3) +
                                   footprint.triangles * sizeof(glm::uvec3),
                               in.memoryLimitBytes(), "choose a smaller size");
-    scene = generator->generate(static_cast<uint32_t>(size), seed);
+    scene = generator->generate(knobs);
   } catch (const SceneError& e) {
     in.fail(where, e.what());
   }
@@ -376,7 +399,7 @@ Mesh readMesh(const JsonReader& in, const json& value, size_t index) {
   const std::string where = fmt::format("meshes[{}]", index);
   in.object(value, where,
             {"name", "closed", "file", "vertices", "triangles", "box", "generator", "size", "seed",
-             "transform"});
+             "style", "transform"});
   std::string name = fmt::format("mesh{}", index);
   if (const json* n = member(value, "name")) {
     name = in.string(*n, at(where, "name"));
@@ -389,8 +412,9 @@ Mesh readMesh(const JsonReader& in, const json& value, size_t index) {
                       (member(value, "vertices") || member(value, "triangles") ? 1 : 0);
   if (sources != 1)
     in.fail(where, "needs exactly one of 'file', 'vertices'+'triangles', 'box', 'generator'");
-  if (!member(value, "generator") && (member(value, "size") || member(value, "seed")))
-    in.fail(where, "'size' and 'seed' belong to a 'generator' mesh");
+  if (!member(value, "generator") &&
+      (member(value, "size") || member(value, "seed") || member(value, "style")))
+    in.fail(where, "'size', 'seed' and 'style' belong to a 'generator' mesh");
 
   Mesh mesh;
   bool closedByDefault = false;

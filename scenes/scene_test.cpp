@@ -74,10 +74,13 @@ TEST_CASE("generated scenes are deterministic and match their golden hashes",
       {"forest", "73d5d3016faaa748"},
       {"tangle", "b0b89565c6a01bdc"},
   };
+  // Style knobs and presets: the fractal hills and turns by portableSinCos, pinned too.
+  CHECK(sb::openScene("city:size=2,relief=60,turn=90").hash() == "d9e4773ab01c06b1");
+  CHECK(sb::openScene("city:cityscape").hash() == "a0d9a26bd01b5811");
   for (const auto& g : sb::sceneGenerators()) {
     INFO("generator " << g.name);
-    const std::string first = g.generate(g.defaultSize, 1).hash();
-    CHECK(first == g.generate(g.defaultSize, 1).hash());
+    const std::string first = g.generate({g.defaultSize, 1}).hash();
+    CHECK(first == g.generate({g.defaultSize, 1}).hash());
     CHECK(first == sb::openScene(g.name).hash());
     CHECK(first == golden.at(g.name));
   }
@@ -86,20 +89,20 @@ TEST_CASE("generated scenes are deterministic and match their golden hashes",
 TEST_CASE("different seeds give different scenes", "[scenes][generators]") {
   for (const auto& g : sb::sceneGenerators()) {
     INFO("generator " << g.name);
-    CHECK(g.generate(g.defaultSize, 1).hash() != g.generate(g.defaultSize, 2).hash());
+    CHECK(g.generate({g.defaultSize, 1}).hash() != g.generate({g.defaultSize, 2}).hash());
   }
 }
 
 TEST_CASE("the size knob scales the triangle count", "[scenes][generators]") {
   for (const auto& g : sb::sceneGenerators()) {
     INFO("generator " << g.name);
-    const uint64_t half = g.generate(g.defaultSize / 2, 1).triangleCount();
-    const uint64_t normal = g.generate(g.defaultSize, 1).triangleCount();
+    const uint64_t half = g.generate({g.defaultSize / 2, 1}).triangleCount();
+    const uint64_t normal = g.generate({g.defaultSize, 1}).triangleCount();
     CHECK(half * 3 < normal * 2);  // roughly quadratic in size for 2D layouts, linear for tubes
     CHECK(half > 0);
   }
-  CHECK(generator("tangle").generate(6, 1).triangleCount() * 2 ==
-        generator("tangle").generate(12, 1).triangleCount());
+  CHECK(generator("tangle").generate({6, 1}).triangleCount() * 2 ==
+        generator("tangle").generate({12, 1}).triangleCount());
 }
 
 TEST_CASE("full-size scenes have the papers' scale", "[.full][scenes][generators]") {
@@ -126,8 +129,9 @@ TEST_CASE("full-size scenes have the papers' scale", "[.full][scenes][generators
 TEST_CASE("openScene reads generator knobs", "[scenes][spec]") {
   const Scene scene = sb::openScene("city:size=3,seed=7");
   CHECK(scene.name == "city:size=3,seed=7");
-  CHECK(scene.hash() == generator("city").generate(3, 7).hash());
-  CHECK(sb::openScene("tangle:seed=7,size=3").hash() == generator("tangle").generate(3, 7).hash());
+  CHECK(scene.hash() == generator("city").generate({3, 7}).hash());
+  CHECK(sb::openScene("tangle:seed=7,size=3").hash() ==
+        generator("tangle").generate({3, 7}).hash());
   CHECK(sb::openScene("tangle:full,seed=5").name ==
         "tangle:size=" + std::to_string(generator("tangle").fullSize) + ",seed=5");
   CHECK(sb::openScene(scene.name).hash() == scene.hash());  // a generated scene's name reopens it
@@ -151,6 +155,74 @@ TEST_CASE("openScene rejects unknown generators and bad knobs", "[scenes][spec]"
              Catch::Contains("size=N, seed=N, full"));
   CHECK_THAT(sceneErrorOf([] { sb::openScene("city:size=0"); }), Catch::Contains("out of range"));
   CHECK_THAT(sceneErrorOf([] { sb::openScene(""); }), Catch::Contains("empty"));
+}
+
+TEST_CASE("style knobs at 0 leave the city as it was; presets are named knobs",
+          "[scenes][spec][style]") {
+  const Scene plain = sb::openScene("city:size=3,seed=7");
+  const Scene zero = sb::openScene("city:size=3,seed=7,relief=0,turn=0");
+  CHECK(zero.hash() == plain.hash());
+  CHECK(zero.name == plain.name);
+  const Scene styled = sb::openScene("city:turn=30,size=3,relief=40");
+  CHECK(styled.name == "city:size=3,seed=1,relief=40,turn=30");
+  CHECK(sb::openScene(styled.name).hash() == styled.hash());
+  for (const sb::GeneratorPreset& preset : generator("city").presets) {
+    INFO("preset " << preset.name);
+    const sb::GeneratorKnobs knobs{preset.size, preset.seed, preset.style};
+    CHECK(sb::openScene("city:" + preset.name).hash() == generator("city").generate(knobs).hash());
+    for (const char* knob : {"size", "seed"})
+      CHECK_THAT(sceneErrorOf([&] { sb::openScene("city:" + preset.name + "," + knob + "=2"); }),
+                 Catch::Contains(std::string(knob) + " given twice"));
+    CHECK(!preset.fittedTo.empty());
+  }
+  for (const char* spec :
+       {"city:relief=1001", "city:turn=91", "city:relief=-1", "city:turn=1,turn=2",
+        "city:relief=99999999999", "terrain:relief=3", "tangle:turn=1"}) {
+    INFO(spec);
+    const std::string message = sceneErrorOf([&] { sb::openScene(spec); });
+    CHECK_THAT(message, Catch::Contains(spec));
+  }
+  CHECK_THAT(sceneErrorOf([] { sb::openScene("city:turn=91"); }),
+             Catch::Contains("turn 91 out of range [0, 90]"));
+  CHECK_THAT(sceneErrorOf([] { sb::openScene("terrain:relief=3"); }),
+             Catch::Contains("unknown knob 'relief=3'"));
+  CHECK_THAT(sceneErrorOf([] {
+               generator("tangle").generate({3, 1, {1}});
+             }),
+             Catch::Contains("1 style knobs given, it has 0"));
+}
+
+TEST_CASE("a city on hills stands on them, closed, its buildings turned inside their lots",
+          "[scenes][generators][style]") {
+  const Scene flat = sb::openScene("city:size=2,seed=5");
+  for (const char* spec : {"city:size=2,seed=5,relief=60", "city:size=2,seed=5,turn=90",
+                           "city:size=2,seed=5,relief=60,turn=90"}) {
+    INFO(spec);
+    const Scene scene = sb::openScene(spec);
+    checkSceneInvariants(scene);
+    for (const Mesh& mesh : scene.meshes) {
+      INFO("mesh " << mesh.name);
+      CHECK(mesh.closed);
+      CHECK(sb::checkWatertight(mesh).watertight());
+    }
+    // The same buildings: turning and hills move vertices, they add or remove none.
+    REQUIRE(scene.meshes.size() == flat.meshes.size());
+    for (size_t m = 1; m < scene.meshes.size(); ++m)
+      CHECK(scene.meshes[m].triangles.size() == flat.meshes[m].triangles.size());
+    // Every building stays inside the city, a metre from its edge (blocks of 2 × 96 m), and its
+    // base inside the slab under the hills (z ∈ [-2, 0] at the lowest).
+    for (size_t m = 1; m < scene.meshes.size(); ++m)
+      for (const glm::vec3& v : scene.meshes[m].vertices) {
+        CHECK(std::abs(v.x) <= 95.0f);
+        CHECK(std::abs(v.y) <= 95.0f);
+        CHECK(v.z >= -1.0f);
+      }
+  }
+  const Scene hills = sb::openScene("city:size=2,seed=5,relief=60");
+  float groundTop = hills.meshes[0].vertices[0].z;
+  for (const glm::vec3& v : hills.meshes[0].vertices) groundTop = std::max(groundTop, v.z);
+  CHECK(groundTop > 30.0f);
+  CHECK(groundTop <= 60.0f);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -351,6 +423,15 @@ TEST_CASE("loader errors name the file and the problem", "[scenes][errors]") {
   const fs::path openGenerator =
       dir.write("opengen.json",
                 R"({"meshes": [{"name": "a", "generator": "forest", "size": 1, "closed": true}]})");
+  const fs::path styleOutOfRange = dir.write(
+      "styleout.json",
+      R"({"meshes": [{"name": "a", "generator": "city", "size": 1, "style": {"turn": 91}}]})");
+  const fs::path styleUnknown = dir.write(
+      "styleunknown.json",
+      R"({"meshes": [{"name": "a", "generator": "tangle", "size": 1, "style": {"relief": 4}}]})");
+  const fs::path styleWithoutGenerator = dir.write(
+      "stylebox.json",
+      R"({"meshes": [{"name": "a", "box": {"min": [0,0,0], "max": [1,1,1]}, "style": {}}]})");
   const fs::path missingModel =
       dir.write("missingmodel.json", R"({"meshes": [{"name": "a", "file": "nowhere.obj"}]})");
   const fs::path badLight = dir.write(
@@ -381,6 +462,9 @@ TEST_CASE("loader errors name the file and the problem", "[scenes][errors]") {
       {twice, "two meshes are named 'a'"},
       {badGenerator, "unknown generator 'castle' (valid: city, terrain, forest, tangle)"},
       {openGenerator, "open"},
+      {styleOutOfRange, "meshes[0].style.turn: 91 out of range [0, 90]"},
+      {styleUnknown, "meshes[0].style: generator 'tangle' has no style knobs"},
+      {styleWithoutGenerator, "'size', 'seed' and 'style' belong to a 'generator' mesh"},
       {missingModel, "nowhere.obj': no such file"},
       {badLight, "lights[0].direction: direction must not be zero"},
       {singular, "singular"},
@@ -393,6 +477,20 @@ TEST_CASE("loader errors name the file and the problem", "[scenes][errors]") {
     CHECK_THAT(message, Catch::Contains(problem));
     CHECK(message.find('\n') == std::string::npos);
   }
+}
+
+TEST_CASE("a generator mesh in a scene file takes the generator's style knobs",
+          "[scenes][file][style]") {
+  TempDir dir;
+  const fs::path file = dir.write(
+      "styled.json",
+      R"({"meshes": [{"name": "c", "generator": "city", "size": 2, "style": {"relief": 60, "turn": 90}}]})");
+  const Scene fromFile = sb::openScene(file.string());
+  const Scene fromSpec = sb::openScene("city:size=2,relief=60,turn=90");
+  REQUIRE(fromFile.meshes.size() == 1);
+  CHECK(fromFile.triangleCount() == fromSpec.triangleCount());
+  CHECK(fromFile.bounds().min == fromSpec.bounds().min);
+  CHECK(fromFile.bounds().max == fromSpec.bounds().max);
 }
 
 TEST_CASE("truncated or corrupted scene files give a Scene or a SceneError, nothing else",
@@ -436,11 +534,19 @@ TEST_CASE("truncated or corrupted scene files give a Scene or a SceneError, noth
 
 // ---------------------------------------------------------------------------------------------
 TEST_CASE("generator footprints bound what the generators build", "[scenes][memory]") {
-  for (const auto& g : sb::sceneGenerators()) {
-    for (const uint32_t size : {g.defaultSize / 2, g.defaultSize}) {
-      INFO("generator " << g.name << " size " << size);
-      const Scene scene = g.generate(size, 1);
-      const sb::SceneFootprint footprint = g.footprint(size);
+  std::vector<std::pair<const sb::GeneratorInfo*, sb::GeneratorKnobs>> cases;
+  for (const auto& g : sb::sceneGenerators())
+    for (const uint32_t size : {g.defaultSize / 2, g.defaultSize}) cases.push_back({&g, {size, 1}});
+  for (const sb::GeneratorPreset& preset : generator("city").presets)
+    cases.push_back({&generator("city"), {preset.size, preset.seed, preset.style}});
+  cases.push_back({&generator("city"), {3, 1, {20, 90}}});
+  for (const auto& [generatorInfo, knobs] : cases) {
+    const sb::GeneratorInfo& g = *generatorInfo;
+    const uint32_t size = knobs.size;
+    {
+      INFO("generator " << g.name << " size " << size << " style knobs " << knobs.style.size());
+      const Scene scene = g.generate(knobs);
+      const sb::SceneFootprint footprint = g.footprint(knobs);
       uint64_t vertices = 0, bytes = 0;
       for (const Mesh& mesh : scene.meshes) {
         vertices += mesh.vertices.size();

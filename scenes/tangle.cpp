@@ -62,7 +62,7 @@ SceneFootprint tangleFootprint(uint32_t size) {
 Scene generateTangle(uint32_t size, uint64_t seed) {
   checkSize("tangle", size, kMinSize, kMaxSize);
   Scene scene;
-  scene.name = generatedSceneName("tangle", size, seed);
+  scene.name = generatedSceneName("tangle", {size, seed});
   const std::vector<float> radii(kRings, kTubeRadius);
   for (uint32_t s = 0; s < size; ++s) {
     Rng rng(streamSeed(seed, s));

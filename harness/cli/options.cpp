@@ -31,8 +31,9 @@ void setExitStatus(int value) {
 
 void MapOptions::addTo(CLI::App* app, bool withMapShape) {
   app->add_option("--scene,-s", scene,
-                  "generator (city, terrain, forest, tangle; ':full' or "
-                  "':size=N,seed=S'), scene .json or model file")
+                  "generator (city, terrain, forest, tangle; ':full', a preset such as "
+                  "':cityscape' or ':size=N,seed=S'; 'shadowbench scene list'), scene .json or "
+                  "model file")
       ->capture_default_str();
   app->add_option("--light,-l", light, "index of the scene's light")->capture_default_str();
   if (!withMapShape) return;

@@ -15,9 +15,19 @@ namespace sb::cli {
 namespace {
 
 void listGenerators() {
-  for (const GeneratorInfo& g : sceneGenerators())
+  for (const GeneratorInfo& g : sceneGenerators()) {
     fmt::print("{:8} default size {}, full size {} — {}\n", g.name, g.defaultSize, g.fullSize,
                g.description);
+    for (const StyleKnob& knob : g.styleKnobs)
+      fmt::print("{:8}   {}=0…{}: {}\n", "", knob.name, knob.max, knob.description);
+    for (const GeneratorPreset& preset : g.presets) {
+      std::string knobs = fmt::format("size={},seed={}", preset.size, preset.seed);
+      for (size_t k = 0; k < preset.style.size(); ++k)
+        knobs += fmt::format(",{}={}", g.styleKnobs[k].name, preset.style[k]);
+      fmt::print("{:8}   {}:{} ({}): fitted to {}\n", "", g.name, preset.name, knobs,
+                 preset.fittedTo);
+    }
+  }
 }
 
 void printSceneInfo(const MapOptions& o) {
