@@ -1,9 +1,10 @@
 # shellcheck shell=bash
-# Sourced by the scripts of scripts/reproduce/ (not run): reads --max-resolution and --part-size
-# (every other argument goes to each sweep), builds shadowbench (Release, in build/ or $SHADOWBENCH_BUILD),
-# and gives each script `resolutions`, `sweep` and `tabulate`. Records go to
+# Sourced by the scripts of scripts/reproduce/ (not run): reads --max-resolution, --part-size and
+# --stand-ins (every other argument goes to each sweep), builds shadowbench (Release, in build/ or
+# $SHADOWBENCH_BUILD), and gives each script `resolutions`, `sweep` and `tabulate`. Records go to
 # results/reproduce/records, the sweeps' output to results/reproduce/<table>/sweep.log
-# and the table to results/reproduce/<table>.md.
+# and the table to results/reproduce/<table>.md; with --stand-ins calibrated, all three under
+# results/reproduce/calibrated/.
 set -euo pipefail
 script=$(realpath "$0")
 table=$(basename "$script" .sh)
@@ -14,8 +15,10 @@ usage() {
   sed -n '2,/^#   scripts/s/^# \{0,1\}//p' "$script"
   echo "Options: --max-resolution R (default 256K, e.g. 4K for a quick run); --part-size P"
   echo "(default 32K: cells above it that build in parts do so, part files in"
-  echo "results/reproduce/parts); any other argument goes to every 'shadowbench sweep' (e.g."
-  echo "--no-bench, --sampled-queries 1000000)."
+  echo "results/reproduce/parts); --stand-ins full|calibrated (default full: the scripts' scenes;"
+  echo "calibrated: city:cityscape, fitted to the 2021 paper's DAG column, for city:full, the"
+  echo "records and tables in results/reproduce/calibrated); any other argument goes to every"
+  echo "'shadowbench sweep' (e.g. --no-bench, --sampled-queries 1000000)."
 }
 
 # "4K" → 4096; fails on anything but digits with an optional K.
@@ -28,6 +31,7 @@ label() { if (($1 >= 1024)); then echo "$(($1 / 1024))K"; else echo "$1"; fi; }
 
 max_resolution=256K
 part_size=32K
+stand_ins=full
 sweep_args=()
 while [ $# -gt 0 ]; do
   case $1 in
@@ -41,6 +45,11 @@ while [ $# -gt 0 ]; do
       part_size=$2
       shift 2 ;;
     --part-size=*) part_size=${1#*=}; shift ;;
+    --stand-ins)
+      [ $# -ge 2 ] || { echo "$table: --stand-ins needs a value" >&2; exit 2; }
+      stand_ins=$2
+      shift 2 ;;
+    --stand-ins=*) stand_ins=${1#*=}; shift ;;
     -h | --help) usage; exit 0 ;;
     *) sweep_args+=("$1"); shift ;;
   esac
@@ -75,7 +84,13 @@ capped() {
 # tables find the papers' rows at those defaults (`shadowbench schemes --json`), so the scripts
 # name only the parameters they vary.
 
-out=results/reproduce
+# The calibrated stand-ins (README, "Calibrated stand-ins") replace the scripts' scenes where a
+# preset was fitted; the tables find scenes by generator, so they keep a folder of their own.
+case $stand_ins in
+  full) out=results/reproduce; calibrated=() ;;
+  calibrated) out=results/reproduce/calibrated; calibrated=(city:full city:cityscape) ;;
+  *) echo "$table: --stand-ins '$stand_ins' must be full or calibrated" >&2; exit 2 ;;
+esac
 # One records folder for every table: a cell two tables need is built once.
 records=$out/records
 log=$out/$table/sweep.log
@@ -94,6 +109,11 @@ status=0
 sweep() {
   local parts=(--part-size "${sweep_part_size:-$part_size}" --parts "$out/parts")
   [ "${sweep_part_size:-}" != whole ] || parts=()
+  local args=("$@") i
+  if [ ${#calibrated[@]} -gt 0 ]; then
+    for i in "${!args[@]}"; do args[i]=${args[i]//${calibrated[0]}/${calibrated[1]}}; done
+    set -- "${args[@]}"
+  fi
   echo "shadowbench sweep ${parts[*]:+${parts[*]} }$*${sweep_args[*]:+ ${sweep_args[*]}}" | tee -a "$log"
   local rc=0
   "$sb" sweep --out "$records" "${parts[@]}" "$@" "${sweep_args[@]}" >>"$log" || rc=$?

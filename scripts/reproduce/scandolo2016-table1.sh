@@ -11,9 +11,9 @@ source "$(dirname "$0")/common.sh"
 # hierarchy keeps about a node per texel (mh 70 MiB at 4K², ×4 per doubling; mmh peaks at
 # 1.3 GiB at 4K², ~20 GiB at 16K²).
 up_to_8k=$(capped 8K 4K)
-sweep --schemes mh,mmh,cpvs --scenes city:full,terrain:full --modes closed \
+sweep --schemes mh,mmh,cpvs,cpvs-fast --scenes city:full,terrain:full --modes closed \
   --resolutions "$(resolutions 4K 4)"
-sweep --schemes mh,mmh,cpvs --scenes city:full --modes open --resolutions "$up_to_8k"
-sweep --schemes mh,mmh,cpvs --scenes forest:full --modes static \
+sweep --schemes mh,mmh,cpvs,cpvs-fast --scenes city:full --modes open --resolutions "$up_to_8k"
+sweep --schemes mh,mmh,cpvs,cpvs-fast --scenes forest:full --modes static \
   --resolutions "$(resolutions 4K 4)"
 tabulate

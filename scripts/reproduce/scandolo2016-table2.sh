@@ -6,8 +6,8 @@
 #   scripts/reproduce/scandolo2016-table2.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
-sweep --schemes mh,mmh,cpvs --scenes city:full --modes closed \
+sweep --schemes mh,mmh,cpvs,cpvs-fast --scenes city:full --modes closed \
   --resolutions "$(resolutions 4K 4)"
-sweep --schemes mh,mmh,cpvs --scenes forest:full --modes static \
+sweep --schemes mh,mmh,cpvs,cpvs-fast --scenes forest:full --modes static \
   --resolutions "$(resolutions 4K 4)"
 tabulate

@@ -10,16 +10,16 @@
 source "$(dirname "$0")/common.sh"
 up_to_16k=$(capped 16K 4K 4)
 up_to_8k=$(capped 8K 4K)
-sweep --schemes mmh,dag-mh,cpvs --scenes city:full --modes closed \
+sweep --schemes mmh,dag-mh,cpvs,cpvs-fast --scenes city:full --modes closed \
   --resolutions "$(resolutions 4K)"
 sweep --schemes dag-mh --scenes city:full --modes closed --resolutions "$(label $((max_texels * 2)))"
-sweep --schemes mmh,dag-mh,cpvs --scenes terrain:full --modes closed \
+sweep --schemes mmh,dag-mh,cpvs,cpvs-fast --scenes terrain:full --modes closed \
   --resolutions "$(resolutions 4K 4)"
 sweep --schemes mmh,dag-mh --scenes tangle:full --modes closed \
   --resolutions "$(resolutions 4K 4)"
-sweep --schemes mmh,dag-mh,cpvs --scenes city:full --modes open \
+sweep --schemes mmh,dag-mh,cpvs,cpvs-fast --scenes city:full --modes open \
   --resolutions "$up_to_8k"
-sweep --schemes mmh,dag-mh,cpvs --scenes forest:full --modes static \
+sweep --schemes mmh,dag-mh,cpvs,cpvs-fast --scenes forest:full --modes static \
   --resolutions "$(resolutions 4K 4)"
-sweep --schemes cpvs --scenes tangle:full --modes closed --resolutions "$up_to_16k"
+sweep --schemes cpvs,cpvs-fast --scenes tangle:full --modes closed --resolutions "$up_to_16k"
 tabulate

@@ -5,5 +5,5 @@
 #   scripts/reproduce/scandolo2021-table2.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
 source "$(dirname "$0")/common.sh"
-sweep --schemes cpvs,mh,mmh,dag-mh --scenes city:full --modes closed --resolutions "$(resolutions 4K 4)"
+sweep --schemes cpvs,cpvs-fast,mh,mmh,dag-mh --scenes city:full --modes closed --resolutions "$(resolutions 4K 4)"
 tabulate
