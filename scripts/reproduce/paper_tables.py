@@ -43,6 +43,7 @@ TABLES = {
     "scandolo2016-table3": mh_tables.scandolo2016_table3,
     "scandolo2016-fig8": mh_tables.scandolo2016_fig8,
     "scandolo2021-table1": mh_tables.scandolo2021_table1,
+    "calibration": mh_tables.calibration,
     "scandolo2021-table2": mh_tables.scandolo2021_table2,
     "scandolo2021-table3": mh_tables.scandolo2021_table3,
     "scandolo2021-table4": mh_tables.scandolo2021_table4,
