@@ -46,6 +46,7 @@ class SubtreeMatcher {
  public:
   // `hierarchy` must outlive the matcher; merges narrow its nodes' intervals.
   SubtreeMatcher(MultiresHierarchy& hierarchy, const MatchingOptions& options);
+  // Once per matcher: it merges the hierarchy it was given.
   MergedHierarchy match();
 
  private:
@@ -54,6 +55,21 @@ class SubtreeMatcher {
     uint32_t begin;  // in candidates_
     uint8_t height;
   };
+  // The aggregated interval bounds of a pack's subtree (SBE16b §3.2, Fig. 6): the lowest and
+  // highest lo and hi over its nodes' intervals. Kept as keys, 16 bytes (in a pack's frame they
+  // take 33 bits each), and combined bottom-up without shifts; the early rejection takes them
+  // into the packs' frames, less their reconstructed keys.
+  struct AggregatedBounds {
+    uint32_t minLo = UINT32_MAX, maxLo = 0, minHi = UINT32_MAX, maxHi = 0;
+  };
+  // The bounds of the pack under `node` from its children's intervals and its inner children's
+  // bounds: each subtree's bounds once, bottom-up (§3.2: "during the previously described
+  // bottom-up traversal").
+  AggregatedBounds boundsFromChildren(uint32_t node) const;
+  // The index of candidate `node` among the candidates in node order, where its bounds are:
+  // a bit per node and a count per 64 nodes instead of an index per node.
+  uint32_t candidateRank(uint32_t node) const;
+
   MultiresHierarchy& hierarchy_;
   MatchingOptions options_;
   // Per node: the key a lookup reconstructs at it (Alg. 1), the middle of its interval if it has
@@ -62,7 +78,12 @@ class SubtreeMatcher {
   std::vector<uint32_t> reconstructed_;
   // The inner nodes whose packs may merge, list after list, heights from large to small.
   std::vector<uint32_t> candidates_;
-  std::vector<CollisionList> lists_;  // and a last entry that ends them
+  std::vector<CollisionList> lists_;        // and a last entry that ends them
+  std::vector<uint64_t> isCandidate_;       // a bit per node
+  std::vector<uint32_t> candidatesBefore_;  // per 64 nodes, the candidates before them
+  // Per candidate in node order, its subtree's bounds as they stand: computed bottom-up once,
+  // and again for the survivor's subtree after each merge, whose intervals it narrows.
+  std::vector<AggregatedBounds> bounds_;
 };
 
 }  // namespace sb

@@ -2,6 +2,8 @@
 // answers inside its own intervals, merges shrink the structure, and the statistics add up.
 #include <algorithm>
 #include <limits>
+#include <map>
+#include <string>
 
 #include <catch2/catch.hpp>
 
@@ -90,6 +92,141 @@ TEST_CASE("merged packs whose values move keep every occurrence inside its inter
     CHECK(texelsOutside(
               map, layoutOffsetQuadtree(h, merged.values, merged.sharedChildren, 24, "test")) == 0);
   }
+}
+
+// Alg. 3 without the early rejection, written from the paper rather than from the matcher: every
+// pair within the search distance meets the offset bound and the full test, corresponding nodes
+// compared in their packs' frames (intervals less the pack's reconstructed key); a merge narrows
+// the survivor's intervals to the intersections in its frame and takes its keys again, top-down.
+// Its collision lists hold one topology each, the matcher's one topology hash each.
+MergedHierarchy referenceMatch(MultiresHierarchy& h, const MatchingOptions& options) {
+  std::vector<MhNode>& nodes = h.nodes;
+  const size_t count = nodes.size();
+  const auto children = [&](uint32_t node, auto&& visit) {
+    for (int k = 0, c = 0; k < kMhChildren; ++k)
+      if (nodes[node].child(k) != MhChild::None)
+        visit(nodes[node].firstChild + uint32_t(c++), nodes[node].child(k));
+  };
+  std::vector<uint32_t> keys(count);
+  const auto rekey = [&](auto&& self, uint32_t node) -> void {
+    children(node, [&](uint32_t child, MhChild kind) {
+      keys[child] = hasValue(kind) ? nodes[child].interval.middle() : keys[node];
+      if (kind != MhChild::Leaf) self(self, child);
+    });
+  };
+  keys[h.root()] = nodes[h.root()].interval.middle();
+  rekey(rekey, h.root());
+
+  std::vector<std::string> topology(count);
+  std::vector<int> height(count, 0);
+  for (uint32_t n = 0; n < count; ++n) {
+    if (!nodes[n].hasChildren()) continue;
+    topology[n] = std::to_string(nodes[n].childFlags);
+    children(n, [&](uint32_t child, MhChild) {
+      topology[n] += "(" + topology[child] + ")";
+      height[n] = std::max(height[n], height[child] + 1);
+    });
+  }
+  std::map<std::pair<int, std::string>, std::vector<uint32_t>> lists;  // tallest first
+  const auto collect = [&](auto&& self, uint32_t node, int level) -> void {
+    if (!nodes[node].hasChildren()) return;
+    if (level + options.mergeLevels >= h.levels)
+      lists[{-height[node], topology[node]}].push_back(node);
+    children(node, [&](uint32_t child, MhChild) { self(self, child, level + 1); });
+  };
+  collect(collect, h.root(), 0);
+
+  // The corresponding nodes with values of the packs under a and b.
+  const auto pairs = [&](auto&& self, uint32_t a, uint32_t b, auto&& visit) -> void {
+    children(a, [&](uint32_t childA, MhChild kind) {
+      const uint32_t childB = nodes[b].firstChild + (childA - nodes[a].firstChild);
+      if (hasValue(kind)) visit(nodes[childA].interval, nodes[childB].interval);
+      if (kind != MhChild::Leaf) self(self, childA, childB, visit);
+    });
+  };
+  const std::vector<uint32_t> positions = unmergedPositions(h, "reference");
+  const uint32_t maxOffset = (uint32_t(1) << options.offsetBits) - 1;
+  MergedHierarchy merged;
+  MatchingStatistics& s = merged.statistics;
+  merged.sharedChildren.resize(count);
+  for (uint32_t n = 0; n < count; ++n) merged.sharedChildren[n] = nodes[n].firstChild;
+  std::vector<bool> gone(count, false);
+  const auto remove = [&](auto&& self, uint32_t node) -> void {
+    children(node, [&](uint32_t child, MhChild kind) {
+      ++s.nodesRemoved;
+      gone[child] = true;
+      if (kind != MhChild::Leaf) self(self, child);
+    });
+  };
+  for (const auto& [key, list] : lists)
+    for (size_t i = list.size(); i-- > 0;) {
+      const uint32_t earlier = list[i];
+      if (gone[earlier]) continue;
+      for (size_t j = i + 1; j < std::min<size_t>(list.size(), i + 1 + options.searchDistance);
+           ++j) {
+        const uint32_t later = list[j];
+        if (gone[later]) continue;
+        ++s.pairsTested;
+        if (positions[nodes[later].firstChild] - positions[earlier] > maxOffset) {
+          ++s.rejectedOffset;
+          continue;
+        }
+        const int64_t frameA = keys[earlier], frameB = keys[later];
+        bool meet = true;
+        pairs(pairs, earlier, later, [&](const KeyInterval& a, const KeyInterval& b) {
+          meet = meet &&
+                 std::max(a.lo - frameA, b.lo - frameB) <= std::min(a.hi - frameA, b.hi - frameB);
+        });
+        if (!meet) {
+          ++s.rejectedFullTest;
+          continue;
+        }
+        pairs(pairs, earlier, later, [&](const KeyInterval& a, KeyInterval& b) {
+          b = {uint32_t(std::max(a.lo - frameA, b.lo - frameB) + frameB),
+               uint32_t(std::min(a.hi - frameA, b.hi - frameB) + frameB)};
+        });
+        rekey(rekey, later);
+        ++s.merges;
+        remove(remove, earlier);
+        gone[earlier] = true;
+        merged.sharedChildren[earlier] = nodes[later].firstChild;
+        break;
+      }
+    }
+  merged.values.assign(count, 0);
+  for (uint32_t n = 0; n < count; ++n)
+    children(n, [&](uint32_t child, MhChild) {
+      merged.values[child] = nodes[child].interval.middle() - keys[n];
+    });
+  merged.values[h.root()] = nodes[h.root()].interval.middle();
+  return merged;
+}
+
+TEST_CASE("matching with aggregated bounds merges as the reference without them", "[mmh]") {
+  for (uint64_t seed = 1; seed <= 8; ++seed)
+    for (const MatchingOptions options :
+         {MatchingOptions{1, 12, 24}, MatchingOptions{10, 12, 24}, MatchingOptions{1000, 12, 24},
+          MatchingOptions{1000, 4, 24}, MatchingOptions{1000, 12, 7}}) {
+      INFO("seed " << seed << ", distance " << options.searchDistance << ", levels "
+                   << options.mergeLevels << ", offset bits " << options.offsetBits);
+      const SyntheticMap map = seed % 2 ? jitteredCopies(seed) : repeatedMotif(seed);
+      MultiresHierarchy matched = hierarchyOf(map, 32), reference = matched;
+      const MergedHierarchy got = SubtreeMatcher(matched, options).match();
+      const MergedHierarchy want = referenceMatch(reference, options);
+      const MatchingStatistics &g = got.statistics, &w = want.statistics;
+      CHECK(g.merges == w.merges);
+      CHECK(g.merges > 0);
+      CHECK(g.nodesRemoved == w.nodesRemoved);
+      CHECK(g.pairsTested == w.pairsTested);
+      CHECK(g.rejectedInterval + g.rejectedOffset + g.rejectedFullTest ==
+            w.rejectedOffset + w.rejectedFullTest);
+      CHECK(got.sharedChildren == want.sharedChildren);
+      CHECK(got.values == want.values);
+      CHECK(std::equal(matched.nodes.begin(), matched.nodes.end(), reference.nodes.begin(),
+                       [](const MhNode& a, const MhNode& b) {
+                         return a.interval.lo == b.interval.lo && a.interval.hi == b.interval.hi;
+                       }));
+    }
 }
 
 TEST_CASE("merges stay out of the top levels and within the offset bits", "[mmh]") {
