@@ -23,11 +23,14 @@ struct Interval {
 // its nodes' intervals less the pack's reconstructed key, as the full test compares them.
 struct Bounds {
   int64_t minLo, maxLo, minHi, maxHi;
-  // Some node of one subtree meets no node of the other: no merge can keep both.
-  bool disjointFrom(const Bounds& other) const {
-    return maxLo > other.maxHi || other.maxLo > maxHi || minHi < other.minLo || other.minHi < minLo;
-  }
+  // Some node of this subtree meets no node of the other: its hi below every lo there, or its lo
+  // above every hi there (§3.2's two tests). No merge can keep both.
+  bool outside(const Bounds& other) const { return minHi < other.minLo || maxLo > other.maxHi; }
 };
+
+bool intervalsDisjoint(const Bounds& earlier, const Bounds& later, IntervalTest test) {
+  return earlier.outside(later) || (test == IntervalTest::BothWays && later.outside(earlier));
+}
 
 enum class PackState : uint8_t { Kept, Redirected, Removed };
 
@@ -224,7 +227,7 @@ MergedHierarchy SubtreeMatcher::match() {
           const uint32_t later = candidates_[j];
           if (state[later] != PackState::Kept) continue;
           ++local.pairsTested;
-          if (earlierBounds.disjointFrom(boundsInFrame(later))) {
+          if (intervalsDisjoint(earlierBounds, boundsInFrame(later), options_.intervalTest)) {
             ++local.rejectedInterval;
             continue;
           }

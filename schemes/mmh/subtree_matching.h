@@ -31,10 +31,24 @@ struct MergedHierarchy {
   MatchingStatistics statistics;
 };
 
+// The early rejection by aggregated interval bounds (SBE16b §3.2, Fig. 6). The text tests
+// whether some node of one subtree meets no node of the other in two ways: its lo above every hi
+// of the other, or its hi below every lo. Both reject only pairs the full test would, so merges are
+// the same with either choice; only how the rejections split between the tests differs.
+enum class IntervalTest : uint8_t {
+  // Each subtree's nodes against the other's (the text's "a subtree", "another subtree").
+  BothWays,
+  // Alg. 3 as printed: (n1.lMax < n2.lMin) || (n1.hMin > n2.hMax), only the earlier pack's (n1)
+  // nodes against the later's (n2). In our names n1.minHi < n2.minLo || n1.maxLo > n2.maxHi (l, h:
+  // lowest, highest; Min, Max: of the intervals' minimum and maximum depths).
+  Paper,
+};
+
 struct MatchingOptions {
   uint32_t searchDistance = 1000;  // entries of a collision list tested after each one
   int mergeLevels = 12;            // merged packs lie in the lowest levels, where scales are 1
   int offsetBits = 24;
+  IntervalTest intervalTest = IntervalTest::BothWays;
 };
 
 // The phases the harness times: values relative and hashed, then matched and merged. The

@@ -4,6 +4,7 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <utility>
 
 #include <catch2/catch.hpp>
 
@@ -204,29 +205,93 @@ MergedHierarchy referenceMatch(MultiresHierarchy& h, const MatchingOptions& opti
 
 TEST_CASE("matching with aggregated bounds merges as the reference without them", "[mmh]") {
   for (uint64_t seed = 1; seed <= 8; ++seed)
-    for (const MatchingOptions options :
+    for (MatchingOptions options :
          {MatchingOptions{1, 12, 24}, MatchingOptions{10, 12, 24}, MatchingOptions{1000, 12, 24},
-          MatchingOptions{1000, 4, 24}, MatchingOptions{1000, 12, 7}}) {
-      INFO("seed " << seed << ", distance " << options.searchDistance << ", levels "
-                   << options.mergeLevels << ", offset bits " << options.offsetBits);
+          MatchingOptions{1000, 4, 24}, MatchingOptions{1000, 12, 7}})
+      for (const IntervalTest test : {IntervalTest::BothWays, IntervalTest::Paper}) {
+        options.intervalTest = test;
+        INFO("seed " << seed << ", distance " << options.searchDistance << ", levels "
+                     << options.mergeLevels << ", offset bits " << options.offsetBits
+                     << (test == IntervalTest::Paper ? ", Alg. 3's test" : ", both ways"));
+        const SyntheticMap map = seed % 2 ? jitteredCopies(seed) : repeatedMotif(seed);
+        MultiresHierarchy matched = hierarchyOf(map, 32), reference = matched;
+        const MergedHierarchy got = SubtreeMatcher(matched, options).match();
+        const MergedHierarchy want = referenceMatch(reference, options);
+        const MatchingStatistics &g = got.statistics, &w = want.statistics;
+        CHECK(g.merges == w.merges);
+        CHECK(g.merges > 0);
+        CHECK(g.nodesRemoved == w.nodesRemoved);
+        CHECK(g.pairsTested == w.pairsTested);
+        CHECK(g.rejectedInterval + g.rejectedOffset + g.rejectedFullTest ==
+              w.rejectedOffset + w.rejectedFullTest);
+        CHECK(got.sharedChildren == want.sharedChildren);
+        CHECK(got.values == want.values);
+        CHECK(std::equal(matched.nodes.begin(), matched.nodes.end(), reference.nodes.begin(),
+                         [](const MhNode& a, const MhNode& b) {
+                           return a.interval.lo == b.interval.lo && a.interval.hi == b.interval.hi;
+                         }));
+      }
+}
+
+// The early rejection either way gives the same merges: both tests reject only pairs the full
+// test would. Alg. 3's one-way test leaves some of them to the full test.
+TEST_CASE("Alg. 3's interval test merges as the test both ways, rejecting fewer pairs early",
+          "[mmh]") {
+  uint64_t leftToFullTest = 0;
+  for (uint64_t seed = 1; seed <= 8; ++seed)
+    for (const auto& [distance, offsetBits] : {std::pair{10u, 24}, {1000u, 24}, {1000u, 7}}) {
+      INFO("seed " << seed << ", distance " << distance << ", offset bits " << offsetBits);
       const SyntheticMap map = seed % 2 ? jitteredCopies(seed) : repeatedMotif(seed);
-      MultiresHierarchy matched = hierarchyOf(map, 32), reference = matched;
-      const MergedHierarchy got = SubtreeMatcher(matched, options).match();
-      const MergedHierarchy want = referenceMatch(reference, options);
-      const MatchingStatistics &g = got.statistics, &w = want.statistics;
-      CHECK(g.merges == w.merges);
-      CHECK(g.merges > 0);
-      CHECK(g.nodesRemoved == w.nodesRemoved);
-      CHECK(g.pairsTested == w.pairsTested);
-      CHECK(g.rejectedInterval + g.rejectedOffset + g.rejectedFullTest ==
-            w.rejectedOffset + w.rejectedFullTest);
-      CHECK(got.sharedChildren == want.sharedChildren);
-      CHECK(got.values == want.values);
-      CHECK(std::equal(matched.nodes.begin(), matched.nodes.end(), reference.nodes.begin(),
-                       [](const MhNode& a, const MhNode& b) {
-                         return a.interval.lo == b.interval.lo && a.interval.hi == b.interval.hi;
-                       }));
+      MultiresHierarchy both = hierarchyOf(map, 32), paper = both;
+      const MergedHierarchy ours =
+          SubtreeMatcher(both, {distance, 12, offsetBits, IntervalTest::BothWays}).match();
+      const MergedHierarchy printed =
+          SubtreeMatcher(paper, {distance, 12, offsetBits, IntervalTest::Paper}).match();
+      CHECK(printed.values == ours.values);
+      CHECK(printed.sharedChildren == ours.sharedChildren);
+      const MatchingStatistics &o = ours.statistics, &p = printed.statistics;
+      CHECK(p.merges == o.merges);
+      CHECK(p.nodesRemoved == o.nodesRemoved);
+      CHECK(p.pairsTested == o.pairsTested);
+      CHECK(p.rejectedInterval <= o.rejectedInterval);
+      CHECK(p.rejectedInterval + p.rejectedOffset + p.rejectedFullTest ==
+            o.rejectedInterval + o.rejectedOffset + o.rejectedFullTest);
+      if (offsetBits == 24) {
+        CHECK(o.rejectedOffset + p.rejectedOffset == 0);
+        CHECK(p.rejectedFullTest - o.rejectedFullTest == o.rejectedInterval - p.rejectedInterval);
+        leftToFullTest += o.rejectedInterval - p.rejectedInterval;
+      }
     }
+  CHECK(leftToFullTest > 0);
+}
+
+// Two packs of two leaves under a 4² map's root, [0, 100] and [0, 100] in the earlier pack's
+// frame and [0, 100] and [200, 300] in the later's: the later pack's second leaf lies above
+// every interval of the earlier pack, but no leaf of the earlier pack lies outside the later's.
+// Only the test both ways sees it; Alg. 3's leaves the pair to the full test.
+TEST_CASE("a pair only the test both ways rejects goes to the full test under Alg. 3's", "[mmh]") {
+  const auto flags = [](MhChild first, MhChild second) {
+    return uint8_t(uint8_t(first) | uint8_t(second) << 2);
+  };
+  MultiresHierarchy h;
+  h.resolution = 4, h.levels = 2;
+  h.nodes = {
+      {{1000, 1100}, 0, 0},  // the earlier pack's leaves, its frame 1000
+      {{1000, 1100}, 0, 0},
+      {{5000, 5100}, 0, 0},  // the later pack's leaves, its frame 5000
+      {{5200, 5300}, 0, 0},
+      {{1000, 1000}, 0, flags(MhChild::Leaf, MhChild::Leaf)},
+      {{5000, 5000}, 2, flags(MhChild::Leaf, MhChild::Leaf)},
+      {{3000, 3000}, 4, flags(MhChild::Full, MhChild::Full)},
+  };
+  for (const IntervalTest test : {IntervalTest::BothWays, IntervalTest::Paper}) {
+    MultiresHierarchy matched = h;
+    const MatchingStatistics s = SubtreeMatcher(matched, {1000, 12, 24, test}).match().statistics;
+    CHECK(s.pairsTested == 1);
+    CHECK(s.merges == 0);
+    CHECK(s.rejectedInterval == (test == IntervalTest::BothWays ? 1 : 0));
+    CHECK(s.rejectedFullTest == (test == IntervalTest::Paper ? 1 : 0));
+  }
 }
 
 TEST_CASE("merges stay out of the top levels and within the offset bits", "[mmh]") {
