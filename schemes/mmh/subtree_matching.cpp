@@ -1,7 +1,7 @@
 #include "schemes/mmh/subtree_matching.h"
 
 #include <algorithm>
-#include <limits>
+#include <bit>
 
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
@@ -19,15 +19,18 @@ struct Interval {
   int64_t middle() const { return lo + (hi - lo) / 2; }
 };
 
-// The aggregated interval bounds of a pack's subtree, in the pack's frame (SBE16b §3.2, Fig. 6).
+// The aggregated interval bounds of a pack's subtree in the pack's frame (SBE16b §3.2, Fig. 6):
+// its nodes' intervals less the pack's reconstructed key, as the full test compares them.
 struct Bounds {
-  int64_t minLo = std::numeric_limits<int64_t>::max(), maxLo = std::numeric_limits<int64_t>::min();
-  int64_t minHi = std::numeric_limits<int64_t>::max(), maxHi = std::numeric_limits<int64_t>::min();
-  // Some node of one subtree meets no node of the other: no merge can keep both.
-  bool disjointFrom(const Bounds& other) const {
-    return maxLo > other.maxHi || other.maxLo > maxHi || minHi < other.minLo || other.minHi < minLo;
-  }
+  int64_t minLo, maxLo, minHi, maxHi;
+  // Some node of this subtree meets no node of the other: its hi below every lo there, or its lo
+  // above every hi there (§3.2's two tests). No merge can keep both.
+  bool outside(const Bounds& other) const { return minHi < other.minLo || maxLo > other.maxHi; }
 };
+
+bool intervalsDisjoint(const Bounds& earlier, const Bounds& later, IntervalTest test) {
+  return earlier.outside(later) || (test == IntervalTest::BothWays && later.outside(earlier));
+}
 
 enum class PackState : uint8_t { Kept, Redirected, Removed };
 
@@ -38,6 +41,7 @@ SubtreeMatcher::SubtreeMatcher(MultiresHierarchy& hierarchy, const MatchingOptio
   std::vector<MhNode>& nodes = hierarchy.nodes;
   const size_t count = nodes.size();
   reconstructed_.assign(count, 0);
+  isCandidate_.assign((count + 63) / 64, 0);
 
   // SBE16b §3: every value relative to the reconstructed value of its parent, which starts as the
   // middle of each node's own interval (what MH stores). The walk is depth-first, so the packs
@@ -54,7 +58,10 @@ SubtreeMatcher::SubtreeMatcher(MultiresHierarchy& hierarchy, const MatchingOptio
     stack.pop_back();
     const MhNode& node = nodes[visit.node];
     if (!node.hasChildren()) continue;
-    if (visit.level + options_.mergeLevels >= hierarchy.levels) candidates_.push_back(visit.node);
+    if (visit.level + options_.mergeLevels >= hierarchy.levels) {
+      candidates_.push_back(visit.node);
+      isCandidate_[visit.node / 64] |= uint64_t(1) << (visit.node % 64);
+    }
     uint32_t child = node.firstChild;
     for (int k = 0; k < kMhChildren; ++k) {
       const MhChild kind = node.child(k);
@@ -66,8 +73,17 @@ SubtreeMatcher::SubtreeMatcher(MultiresHierarchy& hierarchy, const MatchingOptio
     while (child-- > node.firstChild) stack.push_back({child, visit.level + 1});
   }
 
+  candidatesBefore_.resize(isCandidate_.size());
+  for (uint32_t before = 0, word = 0; word < isCandidate_.size(); ++word) {
+    candidatesBefore_[word] = before;
+    before += uint32_t(std::popcount(isCandidate_[word]));
+  }
+
   // SBE16b Alg. 2: the topology hash and height of each subtree, bottom-up (packs are stored
-  // before their parents), then the candidates in collision lists by height and topology.
+  // before their parents), and in the same sweep each candidate's aggregated bounds (§3.2); then
+  // the candidates in collision lists by height and topology. A candidate's inner children lie
+  // in lower levels, so they are candidates too.
+  bounds_.resize(candidates_.size());
   std::vector<uint64_t> topology(count, 0);
   std::vector<uint8_t> height(count, 0);
   for (uint32_t n = 0; n < count; ++n) {
@@ -82,6 +98,7 @@ SubtreeMatcher::SubtreeMatcher(MultiresHierarchy& hierarchy, const MatchingOptio
     }
     topology[n] = hash;
     height[n] = uint8_t(below + 1);
+    if (isCandidate_[n / 64] >> (n % 64) & 1) bounds_[candidateRank(n)] = boundsFromChildren(n);
   }
   std::stable_sort(candidates_.begin(), candidates_.end(), [&](uint32_t a, uint32_t b) {
     if (height[a] != height[b]) return height[a] > height[b];
@@ -96,6 +113,36 @@ SubtreeMatcher::SubtreeMatcher(MultiresHierarchy& hierarchy, const MatchingOptio
   lists_.push_back({uint32_t(candidates_.size()), 0});
 }
 
+uint32_t SubtreeMatcher::candidateRank(uint32_t node) const {
+  const uint64_t below = (uint64_t(1) << (node % 64)) - 1;
+  return candidatesBefore_[node / 64] + uint32_t(std::popcount(isCandidate_[node / 64] & below));
+}
+
+SubtreeMatcher::AggregatedBounds SubtreeMatcher::boundsFromChildren(uint32_t n) const {
+  const std::vector<MhNode>& nodes = hierarchy_.nodes;
+  const MhNode& node = nodes[n];
+  AggregatedBounds b;
+  const auto add = [&](uint32_t minLo, uint32_t maxLo, uint32_t minHi, uint32_t maxHi) {
+    b.minLo = std::min(b.minLo, minLo), b.maxLo = std::max(b.maxLo, maxLo);
+    b.minHi = std::min(b.minHi, minHi), b.maxHi = std::max(b.maxHi, maxHi);
+  };
+  uint32_t child = node.firstChild;
+  for (int k = 0; k < kMhChildren; ++k) {
+    const MhChild kind = node.child(k);
+    if (kind == MhChild::None) continue;
+    if (hasValue(kind)) {
+      const KeyInterval& own = nodes[child].interval;
+      add(own.lo, own.lo, own.hi, own.hi);
+    }
+    if (kind != MhChild::Leaf) {
+      const AggregatedBounds& below = bounds_[candidateRank(child)];
+      add(below.minLo, below.maxLo, below.minHi, below.maxHi);
+    }
+    ++child;
+  }
+  return b;
+}
+
 MergedHierarchy SubtreeMatcher::match() {
   std::vector<MhNode>& nodes = hierarchy_.nodes;
   const size_t count = nodes.size();
@@ -107,37 +154,23 @@ MergedHierarchy SubtreeMatcher::match() {
   for (uint32_t n = 0; n < count; ++n) merged.sharedChildren[n] = nodes[n].firstChild;
   std::vector<PackState> state(count, PackState::Kept);
 
-  // The aggregated bounds of a pack's subtree in the pack's frame: its nodes' intervals relative
-  // to the pack's reconstructed key. No pack below one of the current height has merged yet, so
-  // its subtree's intervals are all in one frame.
-  const auto boundsOf = [&](uint32_t pack) {
-    Bounds b;
+  // A pack's aggregated bounds in its frame, taken when tested: in the frame of now, which a
+  // merge above the pack may have moved.
+  const auto boundsInFrame = [&](uint32_t pack) {
+    const AggregatedBounds& keys = bounds_[candidateRank(pack)];
     const int64_t frame = reconstructed_[pack];
-    std::vector<uint32_t> stack{pack};
-    while (!stack.empty()) {
-      const MhNode& node = nodes[stack.back()];
-      const uint32_t first = merged.sharedChildren[stack.back()];
-      stack.pop_back();
-      for (int k = 0, c = 0; k < kMhChildren; ++k) {
-        const MhChild kind = node.child(k);
-        if (kind == MhChild::None) continue;
-        const uint32_t child = first + uint32_t(c++);
-        if (hasValue(kind)) {
-          const KeyInterval& own = nodes[child].interval;
-          b.minLo = std::min(b.minLo, own.lo - frame), b.maxLo = std::max(b.maxLo, own.lo - frame);
-          b.minHi = std::min(b.minHi, own.hi - frame), b.maxHi = std::max(b.maxHi, own.hi - frame);
-        }
-        if (kind != MhChild::Leaf) stack.push_back(child);
-      }
-    }
-    return b;
+    return Bounds{keys.minLo - frame, keys.maxLo - frame, keys.minHi - frame, keys.maxHi - frame};
   };
 
   // The full test (and, with `commit`, the merge) of the packs under a and b, in lockstep. A
   // change of a full node's value shifts its children's relative intervals, tracked as the
   // change of the reconstructed key in each occurrence (shiftA, shiftB); whether the
   // intersections are empty does not depend on which value each node takes. A merge narrows b's
-  // intervals to the intersections, in b's frame, and moves b's reconstructed keys.
+  // intervals to the intersections, in b's frame, and moves b's reconstructed keys. It also
+  // takes the bounds of b's packs again from the narrowed intervals, bottom-up, for what the walk
+  // costs already: bounds left as they were would still hold every interval (a merge only
+  // narrows), so the early rejection would stay sound, but reject fewer pairs. No pack of b's
+  // subtree has merged yet (they are lower), so its nodes' first children are their packs.
   const auto lockstep = [&](auto&& self, uint32_t a, uint32_t b, int64_t shiftA, int64_t shiftB,
                             bool commit) -> bool {
     const MhNode& nodeA = nodes[a];
@@ -169,21 +202,16 @@ MergedHierarchy SubtreeMatcher::match() {
       // After the walk below, which reads childB's key as it was.
       if (commit) reconstructed_[childB] = uint32_t(reconstructed_[childB] + nextB);
     }
+    if (commit) bounds_[candidateRank(b)] = boundsFromChildren(b);
     return true;
   };
 
   tbb::combinable<MatchingStatistics> statistics;
-  std::vector<Bounds> bounds;  // by candidate of the current height
   // §3.2: heights from large to small, so that larger merges remove more before smaller ones
   // are tried; lists of one height share no node and are matched in parallel.
   for (size_t first = 0; first + 1 < lists_.size();) {
     size_t last = first;
     while (last + 1 < lists_.size() && lists_[last].height == lists_[first].height) ++last;
-    const size_t begin = lists_[first].begin;
-    bounds.assign(lists_[last].begin - begin, {});
-    tbb::parallel_for(begin, size_t(lists_[last].begin), [&](size_t c) {
-      if (state[candidates_[c]] == PackState::Kept) bounds[c - begin] = boundsOf(candidates_[c]);
-    });
 
     tbb::parallel_for(first, last, [&](size_t list) {
       MatchingStatistics& local = statistics.local();
@@ -193,12 +221,13 @@ MergedHierarchy SubtreeMatcher::match() {
       for (size_t i = end; i-- > lists_[list].begin;) {
         const uint32_t earlier = candidates_[i];
         if (state[earlier] != PackState::Kept) continue;
+        const Bounds earlierBounds = boundsInFrame(earlier);
         const size_t stop = std::min<size_t>(end, i + 1 + options_.searchDistance);
         for (size_t j = i + 1; j < stop; ++j) {
           const uint32_t later = candidates_[j];
           if (state[later] != PackState::Kept) continue;
           ++local.pairsTested;
-          if (bounds[i - begin].disjointFrom(bounds[j - begin])) {
+          if (intervalsDisjoint(earlierBounds, boundsInFrame(later), options_.intervalTest)) {
             ++local.rejectedInterval;
             continue;
           }
@@ -234,6 +263,8 @@ MergedHierarchy SubtreeMatcher::match() {
     });
     first = last;
   }
+  // The bounds are spent: their bytes go before the values' come (the budget in mmh.cpp).
+  std::vector<AggregatedBounds>().swap(bounds_);
 
   merged.statistics = statistics.combine([](MatchingStatistics a, const MatchingStatistics& b) {
     a.pairsTested += b.pairsTested, a.rejectedInterval += b.rejectedInterval;

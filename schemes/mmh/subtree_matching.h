@@ -31,10 +31,24 @@ struct MergedHierarchy {
   MatchingStatistics statistics;
 };
 
+// The early rejection by aggregated interval bounds (SBE16b §3.2, Fig. 6). The text tests
+// whether some node of one subtree meets no node of the other in two ways: its lo above every hi
+// of the other, or its hi below every lo. Both reject only pairs the full test would, so merges are
+// the same with either choice; only how the rejections split between the tests differs.
+enum class IntervalTest : uint8_t {
+  // Each subtree's nodes against the other's (the text's "a subtree", "another subtree").
+  BothWays,
+  // Alg. 3 as printed: (n1.lMax < n2.lMin) || (n1.hMin > n2.hMax), only the earlier pack's (n1)
+  // nodes against the later's (n2). In our names n1.minHi < n2.minLo || n1.maxLo > n2.maxHi (l, h:
+  // lowest, highest; Min, Max: of the intervals' minimum and maximum depths).
+  Paper,
+};
+
 struct MatchingOptions {
   uint32_t searchDistance = 1000;  // entries of a collision list tested after each one
   int mergeLevels = 12;            // merged packs lie in the lowest levels, where scales are 1
   int offsetBits = 24;
+  IntervalTest intervalTest = IntervalTest::BothWays;
 };
 
 // The phases the harness times: values relative and hashed, then matched and merged. The
@@ -46,6 +60,7 @@ class SubtreeMatcher {
  public:
   // `hierarchy` must outlive the matcher; merges narrow its nodes' intervals.
   SubtreeMatcher(MultiresHierarchy& hierarchy, const MatchingOptions& options);
+  // Once per matcher: it merges the hierarchy it was given.
   MergedHierarchy match();
 
  private:
@@ -54,6 +69,21 @@ class SubtreeMatcher {
     uint32_t begin;  // in candidates_
     uint8_t height;
   };
+  // The aggregated interval bounds of a pack's subtree (SBE16b §3.2, Fig. 6): the lowest and
+  // highest lo and hi over its nodes' intervals. Kept as keys, 16 bytes (in a pack's frame they
+  // take 33 bits each), and combined bottom-up without shifts; the early rejection takes them
+  // into the packs' frames, less their reconstructed keys.
+  struct AggregatedBounds {
+    uint32_t minLo = UINT32_MAX, maxLo = 0, minHi = UINT32_MAX, maxHi = 0;
+  };
+  // The bounds of the pack under `node` from its children's intervals and its inner children's
+  // bounds: each subtree's bounds once, bottom-up (§3.2: "during the previously described
+  // bottom-up traversal").
+  AggregatedBounds boundsFromChildren(uint32_t node) const;
+  // The index of candidate `node` among the candidates in node order, where its bounds are:
+  // a bit per node and a count per 64 nodes instead of an index per node.
+  uint32_t candidateRank(uint32_t node) const;
+
   MultiresHierarchy& hierarchy_;
   MatchingOptions options_;
   // Per node: the key a lookup reconstructs at it (Alg. 1), the middle of its interval if it has
@@ -62,7 +92,12 @@ class SubtreeMatcher {
   std::vector<uint32_t> reconstructed_;
   // The inner nodes whose packs may merge, list after list, heights from large to small.
   std::vector<uint32_t> candidates_;
-  std::vector<CollisionList> lists_;  // and a last entry that ends them
+  std::vector<CollisionList> lists_;        // and a last entry that ends them
+  std::vector<uint64_t> isCandidate_;       // a bit per node
+  std::vector<uint32_t> candidatesBefore_;  // per 64 nodes, the candidates before them
+  // Per candidate in node order, its subtree's bounds as they stand: computed bottom-up once,
+  // and again for the survivor's subtree after each merge, whose intervals it narrows.
+  std::vector<AggregatedBounds> bounds_;
 };
 
 }  // namespace sb

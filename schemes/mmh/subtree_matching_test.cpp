@@ -2,6 +2,9 @@
 // answers inside its own intervals, merges shrink the structure, and the statistics add up.
 #include <algorithm>
 #include <limits>
+#include <map>
+#include <string>
+#include <utility>
 
 #include <catch2/catch.hpp>
 
@@ -89,6 +92,205 @@ TEST_CASE("merged packs whose values move keep every occurrence inside its inter
     CHECK(merged.statistics.merges > 0);
     CHECK(texelsOutside(
               map, layoutOffsetQuadtree(h, merged.values, merged.sharedChildren, 24, "test")) == 0);
+  }
+}
+
+// Alg. 3 without the early rejection, written from the paper rather than from the matcher: every
+// pair within the search distance meets the offset bound and the full test, corresponding nodes
+// compared in their packs' frames (intervals less the pack's reconstructed key); a merge narrows
+// the survivor's intervals to the intersections in its frame and takes its keys again, top-down.
+// Its collision lists hold one topology each, the matcher's one topology hash each.
+MergedHierarchy referenceMatch(MultiresHierarchy& h, const MatchingOptions& options) {
+  std::vector<MhNode>& nodes = h.nodes;
+  const size_t count = nodes.size();
+  const auto children = [&](uint32_t node, auto&& visit) {
+    for (int k = 0, c = 0; k < kMhChildren; ++k)
+      if (nodes[node].child(k) != MhChild::None)
+        visit(nodes[node].firstChild + uint32_t(c++), nodes[node].child(k));
+  };
+  std::vector<uint32_t> keys(count);
+  const auto rekey = [&](auto&& self, uint32_t node) -> void {
+    children(node, [&](uint32_t child, MhChild kind) {
+      keys[child] = hasValue(kind) ? nodes[child].interval.middle() : keys[node];
+      if (kind != MhChild::Leaf) self(self, child);
+    });
+  };
+  keys[h.root()] = nodes[h.root()].interval.middle();
+  rekey(rekey, h.root());
+
+  std::vector<std::string> topology(count);
+  std::vector<int> height(count, 0);
+  for (uint32_t n = 0; n < count; ++n) {
+    if (!nodes[n].hasChildren()) continue;
+    topology[n] = std::to_string(nodes[n].childFlags);
+    children(n, [&](uint32_t child, MhChild) {
+      topology[n] += "(" + topology[child] + ")";
+      height[n] = std::max(height[n], height[child] + 1);
+    });
+  }
+  std::map<std::pair<int, std::string>, std::vector<uint32_t>> lists;  // tallest first
+  const auto collect = [&](auto&& self, uint32_t node, int level) -> void {
+    if (!nodes[node].hasChildren()) return;
+    if (level + options.mergeLevels >= h.levels)
+      lists[{-height[node], topology[node]}].push_back(node);
+    children(node, [&](uint32_t child, MhChild) { self(self, child, level + 1); });
+  };
+  collect(collect, h.root(), 0);
+
+  // The corresponding nodes with values of the packs under a and b.
+  const auto pairs = [&](auto&& self, uint32_t a, uint32_t b, auto&& visit) -> void {
+    children(a, [&](uint32_t childA, MhChild kind) {
+      const uint32_t childB = nodes[b].firstChild + (childA - nodes[a].firstChild);
+      if (hasValue(kind)) visit(nodes[childA].interval, nodes[childB].interval);
+      if (kind != MhChild::Leaf) self(self, childA, childB, visit);
+    });
+  };
+  const std::vector<uint32_t> positions = unmergedPositions(h, "reference");
+  const uint32_t maxOffset = (uint32_t(1) << options.offsetBits) - 1;
+  MergedHierarchy merged;
+  MatchingStatistics& s = merged.statistics;
+  merged.sharedChildren.resize(count);
+  for (uint32_t n = 0; n < count; ++n) merged.sharedChildren[n] = nodes[n].firstChild;
+  std::vector<bool> gone(count, false);
+  const auto remove = [&](auto&& self, uint32_t node) -> void {
+    children(node, [&](uint32_t child, MhChild kind) {
+      ++s.nodesRemoved;
+      gone[child] = true;
+      if (kind != MhChild::Leaf) self(self, child);
+    });
+  };
+  for (const auto& [key, list] : lists)
+    for (size_t i = list.size(); i-- > 0;) {
+      const uint32_t earlier = list[i];
+      if (gone[earlier]) continue;
+      for (size_t j = i + 1; j < std::min<size_t>(list.size(), i + 1 + options.searchDistance);
+           ++j) {
+        const uint32_t later = list[j];
+        if (gone[later]) continue;
+        ++s.pairsTested;
+        if (positions[nodes[later].firstChild] - positions[earlier] > maxOffset) {
+          ++s.rejectedOffset;
+          continue;
+        }
+        const int64_t frameA = keys[earlier], frameB = keys[later];
+        bool meet = true;
+        pairs(pairs, earlier, later, [&](const KeyInterval& a, const KeyInterval& b) {
+          meet = meet &&
+                 std::max(a.lo - frameA, b.lo - frameB) <= std::min(a.hi - frameA, b.hi - frameB);
+        });
+        if (!meet) {
+          ++s.rejectedFullTest;
+          continue;
+        }
+        pairs(pairs, earlier, later, [&](const KeyInterval& a, KeyInterval& b) {
+          b = {uint32_t(std::max(a.lo - frameA, b.lo - frameB) + frameB),
+               uint32_t(std::min(a.hi - frameA, b.hi - frameB) + frameB)};
+        });
+        rekey(rekey, later);
+        ++s.merges;
+        remove(remove, earlier);
+        gone[earlier] = true;
+        merged.sharedChildren[earlier] = nodes[later].firstChild;
+        break;
+      }
+    }
+  merged.values.assign(count, 0);
+  for (uint32_t n = 0; n < count; ++n)
+    children(n, [&](uint32_t child, MhChild) {
+      merged.values[child] = nodes[child].interval.middle() - keys[n];
+    });
+  merged.values[h.root()] = nodes[h.root()].interval.middle();
+  return merged;
+}
+
+TEST_CASE("matching with aggregated bounds merges as the reference without them", "[mmh]") {
+  for (uint64_t seed = 1; seed <= 8; ++seed)
+    for (MatchingOptions options :
+         {MatchingOptions{1, 12, 24}, MatchingOptions{10, 12, 24}, MatchingOptions{1000, 12, 24},
+          MatchingOptions{1000, 4, 24}, MatchingOptions{1000, 12, 7}})
+      for (const IntervalTest test : {IntervalTest::BothWays, IntervalTest::Paper}) {
+        options.intervalTest = test;
+        INFO("seed " << seed << ", distance " << options.searchDistance << ", levels "
+                     << options.mergeLevels << ", offset bits " << options.offsetBits
+                     << (test == IntervalTest::Paper ? ", Alg. 3's test" : ", both ways"));
+        const SyntheticMap map = seed % 2 ? jitteredCopies(seed) : repeatedMotif(seed);
+        MultiresHierarchy matched = hierarchyOf(map, 32), reference = matched;
+        const MergedHierarchy got = SubtreeMatcher(matched, options).match();
+        const MergedHierarchy want = referenceMatch(reference, options);
+        const MatchingStatistics &g = got.statistics, &w = want.statistics;
+        CHECK(g.merges == w.merges);
+        CHECK(g.merges > 0);
+        CHECK(g.nodesRemoved == w.nodesRemoved);
+        CHECK(g.pairsTested == w.pairsTested);
+        CHECK(g.rejectedInterval + g.rejectedOffset + g.rejectedFullTest ==
+              w.rejectedOffset + w.rejectedFullTest);
+        CHECK(got.sharedChildren == want.sharedChildren);
+        CHECK(got.values == want.values);
+        CHECK(std::equal(matched.nodes.begin(), matched.nodes.end(), reference.nodes.begin(),
+                         [](const MhNode& a, const MhNode& b) {
+                           return a.interval.lo == b.interval.lo && a.interval.hi == b.interval.hi;
+                         }));
+      }
+}
+
+// The early rejection either way gives the same merges: both tests reject only pairs the full
+// test would. Alg. 3's one-way test leaves some of them to the full test.
+TEST_CASE("Alg. 3's interval test merges as the test both ways, rejecting fewer pairs early",
+          "[mmh]") {
+  uint64_t leftToFullTest = 0;
+  for (uint64_t seed = 1; seed <= 8; ++seed)
+    for (const auto& [distance, offsetBits] : {std::pair{10u, 24}, {1000u, 24}, {1000u, 7}}) {
+      INFO("seed " << seed << ", distance " << distance << ", offset bits " << offsetBits);
+      const SyntheticMap map = seed % 2 ? jitteredCopies(seed) : repeatedMotif(seed);
+      MultiresHierarchy both = hierarchyOf(map, 32), paper = both;
+      const MergedHierarchy ours =
+          SubtreeMatcher(both, {distance, 12, offsetBits, IntervalTest::BothWays}).match();
+      const MergedHierarchy printed =
+          SubtreeMatcher(paper, {distance, 12, offsetBits, IntervalTest::Paper}).match();
+      CHECK(printed.values == ours.values);
+      CHECK(printed.sharedChildren == ours.sharedChildren);
+      const MatchingStatistics &o = ours.statistics, &p = printed.statistics;
+      CHECK(p.merges == o.merges);
+      CHECK(p.nodesRemoved == o.nodesRemoved);
+      CHECK(p.pairsTested == o.pairsTested);
+      CHECK(p.rejectedInterval <= o.rejectedInterval);
+      CHECK(p.rejectedInterval + p.rejectedOffset + p.rejectedFullTest ==
+            o.rejectedInterval + o.rejectedOffset + o.rejectedFullTest);
+      if (offsetBits == 24) {
+        CHECK(o.rejectedOffset + p.rejectedOffset == 0);
+        CHECK(p.rejectedFullTest - o.rejectedFullTest == o.rejectedInterval - p.rejectedInterval);
+        leftToFullTest += o.rejectedInterval - p.rejectedInterval;
+      }
+    }
+  CHECK(leftToFullTest > 0);
+}
+
+// Two packs of two leaves under a 4² map's root, [0, 100] and [0, 100] in the earlier pack's
+// frame and [0, 100] and [200, 300] in the later's: the later pack's second leaf lies above
+// every interval of the earlier pack, but no leaf of the earlier pack lies outside the later's.
+// Only the test both ways sees it; Alg. 3's leaves the pair to the full test.
+TEST_CASE("a pair only the test both ways rejects goes to the full test under Alg. 3's", "[mmh]") {
+  const auto flags = [](MhChild first, MhChild second) {
+    return uint8_t(uint8_t(first) | uint8_t(second) << 2);
+  };
+  MultiresHierarchy h;
+  h.resolution = 4, h.levels = 2;
+  h.nodes = {
+      {{1000, 1100}, 0, 0},  // the earlier pack's leaves, its frame 1000
+      {{1000, 1100}, 0, 0},
+      {{5000, 5100}, 0, 0},  // the later pack's leaves, its frame 5000
+      {{5200, 5300}, 0, 0},
+      {{1000, 1000}, 0, flags(MhChild::Leaf, MhChild::Leaf)},
+      {{5000, 5000}, 2, flags(MhChild::Leaf, MhChild::Leaf)},
+      {{3000, 3000}, 4, flags(MhChild::Full, MhChild::Full)},
+  };
+  for (const IntervalTest test : {IntervalTest::BothWays, IntervalTest::Paper}) {
+    MultiresHierarchy matched = h;
+    const MatchingStatistics s = SubtreeMatcher(matched, {1000, 12, 24, test}).match().statistics;
+    CHECK(s.pairsTested == 1);
+    CHECK(s.merges == 0);
+    CHECK(s.rejectedInterval == (test == IntervalTest::BothWays ? 1 : 0));
+    CHECK(s.rejectedFullTest == (test == IntervalTest::Paper ? 1 : 0));
   }
 }
 

@@ -106,6 +106,33 @@ class RegistryDefaults(unittest.TestCase):
         self.assertNotEqual(size["1000"], size["100"])
 
 
+class IntervalTests(support.TemporaryFolder):
+    """Table 3 shows mmh's interval test both ways and Alg. 3's, each from its own cell."""
+
+    def test_both_interval_tests_have_rows(self):
+        name = "city-size-36-seed-1_0_closed_mmh_search-distance-1000_1024.json"
+        ours = support.fixture_record(name)
+        printed = copy.deepcopy(ours)
+        printed["scheme"]["params"]["interval-test"] = "paper"
+        counters = printed["counters"]
+        moved = counters["rejected interval"] // 2
+        counters["rejected interval"] -= moved
+        counters["rejected full test"] += moved
+        self.write(name, json.dumps(ours))
+        self.write("paper.json", json.dumps(printed))
+        with contextlib.redirect_stderr(io.StringIO()):
+            files = read_records(self.folder, "test", {})
+        defaults = parse_schemes_json(support.SCHEMES_JSON.read_text(encoding="utf-8"))
+        text = paper_tables.render("scandolo2016-table3", Cells(files, defaults, self.folder,
+                                                                "test"),
+                                   arguments("scandolo2016-table3", "1K"))
+        tested = ours["counters"]["pairs tested"]
+        for label, record in (("both ways", ours), ("Alg. 3's test", printed)):
+            share = 100 * record["counters"]["rejected interval"] / tested
+            self.assertRegex(text, rf"\| mmh city closed, {re.escape(label)} \| 1K² \| [^|]+ \| "
+                                   rf"{re.escape(f'{share:.3g}')} % \|")
+
+
 class Refusals(support.TemporaryFolder):
 
     def records_of(self, *names, edit=None):
