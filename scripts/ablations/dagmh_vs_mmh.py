@@ -67,6 +67,8 @@ def column(variants):
         "dag-mh value bits / MH value": 8 * value_bytes / max(values, 1),
         "dag-mh values with a factor (%)":
             100 * (counter(dag, "factor values") or 0) / max(counter(dag, "values") or 1, 1),
+        "dag-mh bits per factor": (counter(dag, "factor bits") or 0)
+            / max(counter(dag, "factor values") or 1, 1),
         "dag-mh skip list (% of dag-mh)": 100 * skip / size_bytes(dag),
         "dag-mh (MiB)": size_bytes(dag) / MIB,
         "dag-mh skip-level 0 (MiB)": size_bytes(skip0) / MIB if skip0 else None,
