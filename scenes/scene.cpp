@@ -306,13 +306,11 @@ Scene openGenerator(const GeneratorInfo& generator, std::string_view spec, std::
     if (!value) fail(fmt::format("knob '{}' needs a non-negative integer value", knob));
     set(size_t(key - keys.begin()), *value);
   }
-  GeneratorKnobs chosen{generator.defaultSize, values[1].value_or(1), {}};
-  for (size_t k = 0; k < keys.size(); ++k) {
-    if (k == 1 || !values[k]) continue;
-    if (*values[k] > std::numeric_limits<uint32_t>::max())
+  for (size_t k = 0; k < keys.size(); ++k)  // all but the seed are 32-bit
+    if (k != 1 && values[k] && *values[k] > std::numeric_limits<uint32_t>::max())
       fail(fmt::format("{} {} is too large", keys[k], *values[k]));
-    if (k == 0) chosen.size = static_cast<uint32_t>(*values[k]);
-  }
+  GeneratorKnobs chosen{
+      static_cast<uint32_t>(values[0].value_or(generator.defaultSize)), values[1].value_or(1), {}};
   for (size_t k = 2; k < keys.size(); ++k)
     chosen.style.push_back(static_cast<uint32_t>(values[k].value_or(0)));
   // The generator's own errors name the generator; the spec is put before them.
