@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Ablation behind issue 14's question (README "Why DAG-MH is larger than MMH here"): where the
 # bytes of `mmh` and `dag-mh` go, against the `mh` both start from, on city:cityscape (the
-# calibrated city), city:full and tangle:full closed at 4K², 16K², 64K². Builds mh, mmh and dag-mh at their
+# calibrated city), city:full, terrain:full and tangle:full closed and forest:full static at 4K²,
+# 16K², 64K². Builds mh, mmh and dag-mh at their
 # defaults (one depth pass and one hierarchy per cell) and dag-mh with skip-level 0, then prints
 # MH nodes and values, MMH merges and nodes removed, DAG-MH topology and value bytes, value bits
 # per MH value, the skip list's share and each structure's bytes per MH node.
@@ -18,8 +19,16 @@ scripts/install-deps.sh
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build_dir" -j "$(nproc)" --target shadowbench
 sb=$build_dir/harness/shadowbench
-common=(--scenes city:cityscape,city:full,tangle:full --modes closed --resolutions "$resolutions"
-  --part-size 32K --parts "$out/parts" --out "$out/records" --no-bench)
-"$sb" sweep --schemes mh,mmh,dag-mh "${common[@]}"
-"$sb" sweep --schemes dag-mh -p skip-level=0 "${common[@]}"
+common=(--resolutions "$resolutions" --part-size 32K --parts "$out/parts" --out "$out/records"
+  --no-bench)
+status=0
+for scenes in "city:cityscape,city:full,terrain:full,tangle:full closed" "forest:full static"; do
+  read -r scene_list mode <<<"$scenes"
+  "$sb" sweep --schemes mh,mmh,dag-mh --scenes "$scene_list" --modes "$mode" "${common[@]}" ||
+    status=1
+  # Skip level 0 is refused where a node below it would count 2^24 values (city:full at 64K²).
+  "$sb" sweep --schemes dag-mh -p skip-level=0 --scenes "$scene_list" --modes "$mode" \
+    "${common[@]}" || status=1
+done
 /usr/bin/python3 scripts/ablations/dagmh_vs_mmh.py "$out/records" | tee "$out/table.md"
+exit $status
