@@ -144,6 +144,16 @@ SubtreeMatcher::AggregatedBounds SubtreeMatcher::boundsFromChildren(uint32_t n) 
 }
 
 MergedHierarchy SubtreeMatcher::match() {
+  uint64_t unrepresentable = 0;
+  if (options_.values == RelativeValues::FloatDifferences) {
+    if (std::optional<MergedHierarchy> merged = matchFloat(unrepresentable)) return *merged;
+  }
+  MergedHierarchy keyDeltas = matchKeys();
+  keyDeltas.statistics.unrepresentable = unrepresentable;
+  return keyDeltas;
+}
+
+MergedHierarchy SubtreeMatcher::matchKeys() {
   std::vector<MhNode>& nodes = hierarchy_.nodes;
   const size_t count = nodes.size();
   const std::vector<uint32_t> positions = unmergedPositions(hierarchy_, "mmh");
