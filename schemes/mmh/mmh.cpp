@@ -46,6 +46,13 @@ std::unique_ptr<Decoder> encodeMmh(MultiresHierarchy hierarchy, const MatchingOp
   context.count("rejected rounding", s.rejectedRounding);
   context.count("unrepresentable nodes", s.unrepresentable);
   context.count("float values", merged.floatValues ? 1 : 0);
+  if (!merged.floatValues) {
+    context.count("float trial merges", merged.floatTrial.merges);
+    context.count("float trial nodes removed", merged.floatTrial.nodesRemoved);
+    context.count("float trial rejected full test", merged.floatTrial.rejectedFullTest);
+    context.count("float trial rejected rounding", merged.floatTrial.rejectedRounding);
+    context.count("float trial bytes", merged.floatTrialWords * 4);
+  }
   if (merged.floatValues)
     return std::make_unique<MmhFloatDecoder>(std::move(tree), uint8_t(ValueKind::FloatDifferences));
   return std::make_unique<MmhDecoder>(std::move(tree), uint8_t(ValueKind::KeyDeltas));

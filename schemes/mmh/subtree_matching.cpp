@@ -144,12 +144,19 @@ SubtreeMatcher::AggregatedBounds SubtreeMatcher::boundsFromChildren(uint32_t n) 
 }
 
 MergedHierarchy SubtreeMatcher::match() {
+  if (options_.values == RelativeValues::KeyDeltas) return matchKeys();
   uint64_t unrepresentable = 0;
-  if (options_.values == RelativeValues::FloatDifferences) {
-    if (std::optional<MergedHierarchy> merged = matchFloat(unrepresentable)) return *merged;
-  }
+  MergedHierarchy floats = matchFloat(unrepresentable);
+  if (floats.floatValues) return floats;
+  const MatchingStatistics trial = floats.statistics;
+  const uint64_t trialWords = layoutOffsetQuadtree(hierarchy_, floats.values, floats.sharedChildren,
+                                                   options_.offsetBits, "mmh")
+                                  .words.size();
+  floats = {};
   MergedHierarchy keyDeltas = matchKeys();
   keyDeltas.statistics.unrepresentable = unrepresentable;
+  keyDeltas.floatTrial = trial;
+  keyDeltas.floatTrialWords = trialWords;
   return keyDeltas;
 }
 

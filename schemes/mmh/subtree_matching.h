@@ -37,6 +37,10 @@ struct MergedHierarchy {
   std::vector<uint32_t> values;
   // Whether `values` are float differences (RelativeValues::FloatDifferences, unless it fell back).
   bool floatValues = false;
+  // Where float differences fell back to key deltas: what the float matching merged anyway, as a
+  // trial (its packs holding unrepresentable nodes unmerged), and the words its layout takes.
+  MatchingStatistics floatTrial;
+  uint64_t floatTrialWords = 0;
   // Per node, the first child of the pack its offset points to: its own, or after a merge the
   // surviving pack, which lies later in depth-first order.
   std::vector<uint32_t> sharedChildren;
@@ -100,9 +104,10 @@ class SubtreeMatcher {
   // The index of candidate `node` among the candidates in node order, where its bounds are:
   // a bit per node and a count per 64 nodes instead of an index per node.
   uint32_t candidateRank(uint32_t node) const;
-  // match() with float differences (subtree_matching_float.cpp); nullopt where the unmerged
-  // hierarchy itself is not lossless in float sums (its count in `unrepresentable`).
-  std::optional<MergedHierarchy> matchFloat(uint64_t& unrepresentable);
+  // match() with float differences (subtree_matching_float.cpp). Where the unmerged hierarchy
+  // itself is not lossless in float sums (`unrepresentable` nodes), a trial: the hierarchy and
+  // the matcher's state are left for matchKeys(), and the result's floatValues is false.
+  MergedHierarchy matchFloat(uint64_t& unrepresentable);
   MergedHierarchy matchKeys();
 
   MultiresHierarchy& hierarchy_;

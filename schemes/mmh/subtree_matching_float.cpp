@@ -119,7 +119,7 @@ enum class PackState : uint8_t { Kept, Redirected, Removed };
 
 }  // namespace
 
-std::optional<MergedHierarchy> SubtreeMatcher::matchFloat(uint64_t& unrepresentable) {
+MergedHierarchy SubtreeMatcher::matchFloat(uint64_t& unrepresentable) {
   std::vector<MhNode>& nodes = hierarchy_.nodes;
   const size_t count = nodes.size();
 
@@ -129,12 +129,61 @@ std::optional<MergedHierarchy> SubtreeMatcher::matchFloat(uint64_t& unrepresenta
   std::vector<uint32_t> ring(count);
   for (uint32_t n = 0; n < count; ++n) ring[n] = n;
 
-  // The unmerged hierarchy, top-down: each value the middle of its relative interval.
+  // The unmerged hierarchy, top-down: each value the middle of its relative interval, unless
+  // from that depth some node reading it as its frame (its value children, and theirs through
+  // empty children) has no float value that reaches inside its interval. Then the node takes
+  // another depth in its interval where all of them have one: an end, or the depth of a reader
+  // held inside its interval (a degenerate interval far below its parent's depth is reached from
+  // a depth near it, Sterbenz).
   const uint32_t root = hierarchy_.root();
   unrepresentable = 0;
   {
-    const Reading reading = readingOf(0.0f, nodes[root].interval);
-    if (chooseValue({&reading, 1}, value[root]) != Choice::Value) ++unrepresentable;
+    const auto frameReaders = [&](uint32_t n, std::vector<uint32_t>& out) {
+      out.clear();
+      std::vector<uint32_t> walk{n};
+      while (!walk.empty()) {
+        const MhNode& node = nodes[walk.back()];
+        walk.pop_back();
+        for (int k = 0, c = 0; k < kMhChildren; ++k) {
+          const MhChild kind = node.child(k);
+          if (kind == MhChild::None) continue;
+          const uint32_t child = node.firstChild + uint32_t(c++);
+          if (hasValue(kind))
+            out.push_back(child);
+          else
+            walk.push_back(child);
+        }
+      }
+    };
+    const auto reachable = [&](float frame, const std::vector<uint32_t>& readers) {
+      float v;
+      return std::all_of(readers.begin(), readers.end(), [&](uint32_t r) {
+        const Reading reading = readingOf(frame, nodes[r].interval);
+        return chooseValue({&reading, 1}, v) == Choice::Value;
+      });
+    };
+    // The value of node n below `frame`: false where none reaches inside its interval.
+    std::vector<uint32_t> readers;
+    const auto assign = [&](uint32_t n, float frame) {
+      const Reading own = readingOf(frame, nodes[n].interval);
+      if (chooseValue({&own, 1}, value[n]) != Choice::Value) return false;
+      if (!nodes[n].hasChildren()) return true;
+      frameReaders(n, readers);
+      if (reachable(frame + value[n], readers)) return true;
+      const OrderRange range = acceptedRange(own);
+      std::vector<float> targets{own.lo, std::min(own.hi, std::max(own.lo, 1.0f))};
+      for (uint32_t r : readers)
+        targets.push_back(std::clamp(depthOfKey(nodes[r].interval.lo), own.lo, own.hi));
+      for (float target : targets) {
+        const float v = floatOfOrder(std::clamp(orderOf(target - frame), range.first, range.last));
+        if (reachable(frame + v, readers)) {
+          value[n] = v;
+          return true;
+        }
+      }
+      return true;  // its readers count themselves unrepresentable
+    };
+    if (!assign(root, 0.0f)) ++unrepresentable;
     depth[root] = value[root];
     std::vector<uint32_t> stack{root};
     while (!stack.empty()) {
@@ -147,8 +196,7 @@ std::optional<MergedHierarchy> SubtreeMatcher::matchFloat(uint64_t& unrepresenta
         if (kind == MhChild::None) continue;
         depth[child] = depth[n];
         if (hasValue(kind)) {
-          const Reading reading = readingOf(depth[n], nodes[child].interval);
-          if (chooseValue({&reading, 1}, value[child]) == Choice::Value)
+          if (assign(child, depth[n]))
             depth[child] = depth[n] + value[child];
           else
             ++unrepresentable;
@@ -158,13 +206,16 @@ std::optional<MergedHierarchy> SubtreeMatcher::matchFloat(uint64_t& unrepresenta
       }
     }
   }
-  if (unrepresentable > 0) return std::nullopt;  // key deltas instead, in match()
-  std::vector<uint32_t>().swap(reconstructed_);  // the key frames: unused from here on
+  // Where some node is unrepresentable, the matching still runs, for its counters and size
+  // (match() then stores key deltas): packs holding such a node never merge, since no value
+  // reaches inside its interval.
+  const bool trial = unrepresentable > 0;
+  if (!trial) std::vector<uint32_t>().swap(reconstructed_);  // the key frames: unused from here
 
   const std::vector<uint32_t> positions = unmergedPositions(hierarchy_, "mmh");
   const uint64_t maxOffset = (uint64_t(1) << options_.offsetBits) - 1;
   MergedHierarchy merged;
-  merged.floatValues = true;
+  merged.floatValues = !trial;
   merged.sharedChildren.resize(count);
   for (uint32_t n = 0; n < count; ++n) merged.sharedChildren[n] = nodes[n].firstChild;
   std::vector<PackState> state(count, PackState::Kept);
@@ -286,7 +337,7 @@ std::optional<MergedHierarchy> SubtreeMatcher::matchFloat(uint64_t& unrepresenta
     });
     first = last;
   }
-  std::vector<AggregatedBounds>().swap(bounds_);
+  if (!trial) std::vector<AggregatedBounds>().swap(bounds_);
 
   merged.statistics = statistics.combine([](MatchingStatistics a, const MatchingStatistics& b) {
     a.pairsTested += b.pairsTested, a.rejectedInterval += b.rejectedInterval;
@@ -331,7 +382,7 @@ std::optional<MergedHierarchy> SubtreeMatcher::matchFloat(uint64_t& unrepresenta
       if (kind != MhChild::Leaf) stack.push_back({original, stored, d});
     }
   }
-  if (outside > 0)
+  if (outside > 0 && !trial)
     throw std::logic_error(fmt::format(
         "mmh: {} nodes reconstruct outside their intervals with float differences", outside));
   return merged;
