@@ -8,6 +8,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "schemes/interface/scheme.h"
+#include "schemes/interface/serial.h"
 #include "schemes/interface/splitmix.h"
 #include "schemes/mmh/subtree_matching.h"
 #include "schemes/shared/offset_quadtree.h"
@@ -359,6 +361,28 @@ TEST_CASE("float differences fall back to key deltas where float sums cannot be 
   } else {
     CHECK(merged.statistics.unrepresentable > 0);
     CHECK(texelsOutside(map, tree) == 0);
+  }
+}
+
+TEST_CASE("the float-differences payload names its values and the loader refuses others",
+          "[mmh][format]") {
+  const SchemeInfo& scheme = findScheme("mmh");
+  const Params params{{"relative-values", "float-differences"}};
+  const SyntheticMap map = SyntheticMap::random(64, DepthMode::Closed, 3);
+  const auto decoder = map.build(scheme, params, 64);
+  ByteWriter out;
+  decoder->save(out);
+  std::vector<uint8_t> bytes = out.release();
+  REQUIRE(!bytes.empty());
+  CHECK(bytes[0] == 1);  // float differences, not the key-delta fallback
+  const auto load = [&] {
+    ByteReader in(bytes);
+    return scheme.load(in, map.info(scheme.kind), scheme.resolve(params));
+  };
+  CHECK(load()->size() == decoder->size());
+  for (uint8_t kind : {uint8_t(2), uint8_t(255)}) {
+    bytes[0] = kind;
+    CHECK_THROWS_AS(load(), FormatError);
   }
 }
 
