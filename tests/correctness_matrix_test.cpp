@@ -51,10 +51,10 @@ constexpr bool kSampledCells = !kUnderSanitizers;
 constexpr uint32_t kKernelCheckUpTo = 256;
 
 void checkCell(const SchemeInfo& scheme, const std::string& sceneName, DepthMode mode,
-               uint32_t resolution, const VerifyOptions& options) {
+               uint32_t resolution, const VerifyOptions& options, const Params& params = {}) {
   const Scene& scene = sceneName == "spot-city" ? spotLitCity() : cachedScene(sceneName);
   const DepthSource source(scene, sceneLight(scene, 0), mode, resolution);
-  const BuildOutcome built = buildStructure(source, scheme, scheme.resolve({}),
+  const BuildOutcome built = buildStructure(source, scheme, scheme.resolve(params),
                                             BuildShape{defaultTileSize(resolution) / 2});
   const VerifyReport report = verify(*built.decoder, scheme.kind, built.map, source, options);
   INFO(fmt::format("{} on {} ({}, {}²): {} of {} queries wrong", scheme.name, sceneName,
@@ -79,21 +79,40 @@ void checkCell(const SchemeInfo& scheme, const std::string& sceneName, DepthMode
   CHECK(kernels.mismatches == 0);
 }
 
+// Parameter values that change what a scheme stores, checked beside its defaults: the scheme,
+// the values, and a name for the sections.
+struct Variant {
+  std::string scheme;
+  Params params;
+  std::string name;
+};
+const std::vector<Variant>& variants() {
+  static const std::vector<Variant> list{
+      {"mmh", {{"relative-values", "float-differences"}}, "mmh float-differences"}};
+  return list;
+}
+
 // Every scheme on one scene, in every mode.
 void checkScene(const std::string& sceneName) {
   const DepthMode mode = GENERATE(DepthMode::Open, DepthMode::Closed, DepthMode::Static);
-  for (const SchemeInfo& scheme : schemes()) {
-    SECTION(scheme.name + " exhaustive") {
-      for (uint32_t resolution : {64u, 256u}) checkCell(scheme, sceneName, mode, resolution, {});
+  const auto check = [&](const SchemeInfo& scheme, const std::string& name, const Params& params) {
+    SECTION(name + " exhaustive") {
+      for (uint32_t resolution : {64u, 256u})
+        checkCell(scheme, sceneName, mode, resolution, {}, params);
     }
     if (kSampledCells) {
-      SECTION(scheme.name + " sampled") {
+      SECTION(name + " sampled") {
         VerifyOptions sampled;
         sampled.exhaustiveUpTo = 256;
         sampled.sampledQueries = 200'000;
-        checkCell(scheme, sceneName, mode, 1024, sampled);
+        checkCell(scheme, sceneName, mode, 1024, sampled, params);
       }
     }
+  };
+  for (const SchemeInfo& scheme : schemes()) {
+    check(scheme, scheme.name, {});
+    for (const Variant& variant : variants())
+      if (variant.scheme == scheme.name) check(scheme, variant.name, variant.params);
   }
 }
 

@@ -138,6 +138,8 @@ std::vector<GoldenFormat> goldenFormats() {
   }
   formats.push_back({"dag-mh", {{"treelet-height", "5"}}, 32});
   formats.push_back({"dag-mh", {{"chunk-size", "128"}}, 32});
+  // Issue 14: float differences, with the byte that says which values the payload holds.
+  formats.push_back({"mmh", {{"relative-values", "float-differences"}}});
   return formats;
 }
 

@@ -17,6 +17,11 @@ constexpr int kOffsetBits = 24;
 constexpr int kMergeLevels = 12;
 
 using MmhDecoder = OffsetQuadtreeDecoder<OffsetQuadtree::Values::Relative>;
+using MmhFloatDecoder = OffsetQuadtreeDecoder<OffsetQuadtree::Values::RelativeFloat>;
+
+// The float-differences variant saves a byte before the tree: which values it holds, float
+// differences or, where the unmerged hierarchy is not lossless in float sums, key deltas.
+enum class ValueKind : uint8_t { KeyDeltas = 0, FloatDifferences = 1 };
 
 std::unique_ptr<Decoder> encodeMmh(MultiresHierarchy hierarchy, const MatchingOptions& options,
                                    BuildContext& context) {
@@ -34,8 +39,23 @@ std::unique_ptr<Decoder> encodeMmh(MultiresHierarchy hierarchy, const MatchingOp
   context.count("rejected full test", s.rejectedFullTest);
   context.count("merges", s.merges);
   context.count("nodes removed", s.nodesRemoved);
-  return std::make_unique<MmhDecoder>(
-      layoutOffsetQuadtree(hierarchy, merged.values, merged.sharedChildren, kOffsetBits, "mmh"));
+  OffsetQuadtree tree =
+      layoutOffsetQuadtree(hierarchy, merged.values, merged.sharedChildren, kOffsetBits, "mmh");
+  if (options.values == RelativeValues::KeyDeltas)
+    return std::make_unique<MmhDecoder>(std::move(tree));
+  context.count("rejected rounding", s.rejectedRounding);
+  context.count("unrepresentable nodes", s.unrepresentable);
+  context.count("float values", merged.floatValues ? 1 : 0);
+  if (!merged.floatValues) {
+    context.count("float trial merges", merged.floatTrial.merges);
+    context.count("float trial nodes removed", merged.floatTrial.nodesRemoved);
+    context.count("float trial rejected full test", merged.floatTrial.rejectedFullTest);
+    context.count("float trial rejected rounding", merged.floatTrial.rejectedRounding);
+    context.count("float trial bytes", merged.floatTrialWords * 4);
+  }
+  if (merged.floatValues)
+    return std::make_unique<MmhFloatDecoder>(std::move(tree), uint8_t(ValueKind::FloatDifferences));
+  return std::make_unique<MmhDecoder>(std::move(tree), uint8_t(ValueKind::KeyDeltas));
 }
 
 SchemeInfo mmh() {
@@ -51,7 +71,14 @@ SchemeInfo mmh() {
                         "early rejection by aggregated bounds (SBE16b §3.2): both-ways tests each "
                         "subtree against the other, paper only the earlier against the later (Alg. "
                         "3); the merges are the same, the rejection counters differ",
-                        "both-ways", {"both-ways", "paper"}, {"both-ways", "paper"})};
+                        "both-ways", {"both-ways", "paper"}, {"both-ways", "paper"}),
+      ParamSpec::choice("relative-values",
+                        "how relative values are formed (issue 14): key-deltas stores exact "
+                        "differences of depth keys (float ulps), float-differences float32 depth "
+                        "differences summed in float32 and matched in depth units (SBE16b §3), "
+                        "falling back to key deltas where float sums cannot be lossless",
+                        "key-deltas", {"key-deltas", "float-differences"},
+                        {"key-deltas", "float-differences"})};
   // A merge of parts joins the whole hierarchy (16 bytes a node, reserved from the part files)
   // and runs the encode step, whose largest moment is the layout: per node the matched values
   // and shared children (8 bytes), the layout's position, level and kind (10) and the
@@ -65,7 +92,10 @@ SchemeInfo mmh() {
                        const MatchingOptions options{
                            uint32_t(params.integer("search-distance")), kMergeLevels, kOffsetBits,
                            params.choice("interval-test") == "paper" ? IntervalTest::Paper
-                                                                     : IntervalTest::BothWays};
+                                                                     : IntervalTest::BothWays,
+                           params.choice("relative-values") == "float-differences"
+                               ? RelativeValues::FloatDifferences
+                               : RelativeValues::KeyDeltas};
                        return [options](MultiresHierarchy hierarchy, BuildContext& context) {
                          return encodeMmh(std::move(hierarchy), options, context);
                        };
@@ -73,8 +103,16 @@ SchemeInfo mmh() {
                      MhBuilder::hierarchyFloorBytes,
                      {{}, sizeof(MhNode) + 26, 0}});
   info.load = [](ByteReader& in, const MapInfo& map,
-                 const ParamValues&) -> std::unique_ptr<Decoder> {
-    return std::make_unique<MmhDecoder>(OffsetQuadtree::load(in, map, "mmh"));
+                 const ParamValues& params) -> std::unique_ptr<Decoder> {
+    if (params.choice("relative-values") == "key-deltas")
+      return std::make_unique<MmhDecoder>(OffsetQuadtree::load(in, map, "mmh"));
+    const uint8_t kind = in.get<uint8_t>("value kind");
+    if (kind == uint8_t(ValueKind::FloatDifferences))
+      return std::make_unique<MmhFloatDecoder>(OffsetQuadtree::load(in, map, "mmh"), kind);
+    if (kind == uint8_t(ValueKind::KeyDeltas))
+      return std::make_unique<MmhDecoder>(OffsetQuadtree::load(in, map, "mmh"), kind);
+    throw FormatError(fmt::format(
+        "mmh: value kind {} is neither key deltas (0) nor float differences (1)", kind));
   };
   return info;
 }

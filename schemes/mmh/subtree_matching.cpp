@@ -144,6 +144,23 @@ SubtreeMatcher::AggregatedBounds SubtreeMatcher::boundsFromChildren(uint32_t n) 
 }
 
 MergedHierarchy SubtreeMatcher::match() {
+  if (options_.values == RelativeValues::KeyDeltas) return matchKeys();
+  uint64_t unrepresentable = 0;
+  MergedHierarchy floats = matchFloat(unrepresentable);
+  if (floats.floatValues) return floats;
+  const MatchingStatistics trial = floats.statistics;
+  const uint64_t trialWords = layoutOffsetQuadtree(hierarchy_, floats.values, floats.sharedChildren,
+                                                   options_.offsetBits, "mmh")
+                                  .words.size();
+  floats = {};
+  MergedHierarchy keyDeltas = matchKeys();
+  keyDeltas.statistics.unrepresentable = unrepresentable;
+  keyDeltas.floatTrial = trial;
+  keyDeltas.floatTrialWords = trialWords;
+  return keyDeltas;
+}
+
+MergedHierarchy SubtreeMatcher::matchKeys() {
   std::vector<MhNode>& nodes = hierarchy_.nodes;
   const size_t count = nodes.size();
   const std::vector<uint32_t> positions = unmergedPositions(hierarchy_, "mmh");

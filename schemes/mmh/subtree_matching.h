@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "schemes/shared/multires_hierarchy.h"
@@ -16,6 +17,13 @@ struct MatchingStatistics {
   uint64_t rejectedInterval = 0;  // aggregated bounds cannot intersect (SBE16b Fig. 6)
   uint64_t rejectedOffset = 0;    // the merged offset might not fit 24 bits (§3.3)
   uint64_t rejectedFullTest = 0;  // some corresponding nodes' intervals do not intersect
+  // Float differences: the relative intervals intersect, but no float value reconstructs, in
+  // float32 sums, inside every occurrence's interval.
+  uint64_t rejectedRounding = 0;
+  // Float differences: nodes of the unmerged hierarchy whose interval no float32 sum from their
+  // parent's reconstructed depth reaches (degenerate intervals far below the parent's depth);
+  // where any is, the structure falls back to key deltas.
+  uint64_t unrepresentable = 0;
   uint64_t merges = 0;
   uint64_t nodesRemoved = 0;
 };
@@ -23,8 +31,16 @@ struct MatchingStatistics {
 // The hierarchy with merged subtrees: what MMH serialises.
 struct MergedHierarchy {
   // Per node, the word it stores: the depth key relative to its parent's reconstructed key
-  // (wrapping uint32 arithmetic, SBE16b Alg. 1), the root's absolute.
+  // (wrapping uint32 arithmetic, SBE16b Alg. 1), the root's absolute; with float differences, the
+  // bits of a float32 that the parent's reconstructed depth plus it gives, in float32, a depth
+  // inside the node's interval.
   std::vector<uint32_t> values;
+  // Whether `values` are float differences (RelativeValues::FloatDifferences, unless it fell back).
+  bool floatValues = false;
+  // Where float differences fell back to key deltas: what the float matching merged anyway, as a
+  // trial (its packs holding unrepresentable nodes unmerged), and the words its layout takes.
+  MatchingStatistics floatTrial;
+  uint64_t floatTrialWords = 0;
   // Per node, the first child of the pack its offset points to: its own, or after a merge the
   // surviving pack, which lies later in depth-first order.
   std::vector<uint32_t> sharedChildren;
@@ -44,11 +60,16 @@ enum class IntervalTest : uint8_t {
   Paper,
 };
 
+// How relative values are formed (issue 14): exact key deltas in units of float ulps, or float32
+// depth differences summed in float32, as SBE16b §3 does.
+enum class RelativeValues : uint8_t { KeyDeltas, FloatDifferences };
+
 struct MatchingOptions {
   uint32_t searchDistance = 1000;  // entries of a collision list tested after each one
   int mergeLevels = 12;            // merged packs lie in the lowest levels, where scales are 1
   int offsetBits = 24;
   IntervalTest intervalTest = IntervalTest::BothWays;
+  RelativeValues values = RelativeValues::KeyDeltas;
 };
 
 // The phases the harness times: values relative and hashed, then matched and merged. The
@@ -83,6 +104,11 @@ class SubtreeMatcher {
   // The index of candidate `node` among the candidates in node order, where its bounds are:
   // a bit per node and a count per 64 nodes instead of an index per node.
   uint32_t candidateRank(uint32_t node) const;
+  // match() with float differences (subtree_matching_float.cpp). Where the unmerged hierarchy
+  // itself is not lossless in float sums (`unrepresentable` nodes), a trial: the hierarchy and
+  // the matcher's state are left for matchKeys(), and the result's floatValues is false.
+  MergedHierarchy matchFloat(uint64_t& unrepresentable);
+  MergedHierarchy matchKeys();
 
   MultiresHierarchy& hierarchy_;
   MatchingOptions options_;

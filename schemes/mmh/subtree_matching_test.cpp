@@ -8,6 +8,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "schemes/interface/scheme.h"
+#include "schemes/interface/serial.h"
 #include "schemes/interface/splitmix.h"
 #include "schemes/mmh/subtree_matching.h"
 #include "schemes/shared/offset_quadtree.h"
@@ -303,6 +305,85 @@ TEST_CASE("merges stay out of the top levels and within the offset bits", "[mmh]
   // Offsets of 4 bits forbid merges across more than 15 words.
   const MergedHierarchy near = SubtreeMatcher(h, {1000, 12, 4}).match();
   CHECK(near.statistics.rejectedOffset > 0);
+}
+
+}  // namespace
+}  // namespace sb
+
+namespace sb {
+namespace {
+
+// Texels whose lookup with float differences falls outside their interval.
+uint64_t texelsOutsideFloat(const SyntheticMap& map, const OffsetQuadtree& tree) {
+  uint64_t wrong = 0;
+  for (uint32_t j = 0; j < map.resolution; ++j)
+    for (uint32_t i = 0; i < map.resolution; ++i)
+      wrong += !testing::insideInterval(
+          map, i, j, tree.texelKey<OffsetQuadtree::Values::RelativeFloat>(i, j, tree.levels));
+  return wrong;
+}
+
+TEST_CASE("float differences keep every occurrence inside its intervals in float sums", "[mmh]") {
+  uint64_t merges = 0;
+  for (uint64_t seed = 1; seed <= 16; ++seed) {
+    const SyntheticMap map = seed % 2 ? jitteredCopies(seed) : repeatedMotif(seed);
+    MultiresHierarchy h = hierarchyOf(map, 32);
+    MatchingOptions options{1000, 12, 24};
+    options.values = RelativeValues::FloatDifferences;
+    const MergedHierarchy merged = SubtreeMatcher(h, options).match();
+    const MatchingStatistics& s = merged.statistics;
+    CHECK(merged.floatValues);
+    CHECK(s.unrepresentable == 0);
+    CHECK(s.pairsTested == s.rejectedInterval + s.rejectedOffset + s.rejectedFullTest +
+                               s.rejectedRounding + s.merges);
+    merges += s.merges;
+    const OffsetQuadtree tree =
+        layoutOffsetQuadtree(h, merged.values, merged.sharedChildren, 24, "test");
+    CHECK(texelsOutsideFloat(map, tree) == 0);
+  }
+  CHECK(merges > 0);
+}
+
+TEST_CASE("float differences fall back to key deltas where float sums cannot be lossless",
+          "[mmh]") {
+  // Open mode: every interval a single depth, which a float sum from a parent's depth far above
+  // it cannot reach in general.
+  const SyntheticMap map = SyntheticMap::random(64, DepthMode::Open, 7);
+  MultiresHierarchy h = hierarchyOf(map, 16);
+  MatchingOptions options{1000, 12, 24};
+  options.values = RelativeValues::FloatDifferences;
+  const MergedHierarchy merged = SubtreeMatcher(h, options).match();
+  const OffsetQuadtree tree =
+      layoutOffsetQuadtree(h, merged.values, merged.sharedChildren, 24, "test");
+  if (merged.floatValues) {
+    CHECK(merged.statistics.unrepresentable == 0);
+    CHECK(texelsOutsideFloat(map, tree) == 0);
+  } else {
+    CHECK(merged.statistics.unrepresentable > 0);
+    CHECK(texelsOutside(map, tree) == 0);
+  }
+}
+
+TEST_CASE("the float-differences payload names its values and the loader refuses others",
+          "[mmh][format]") {
+  const SchemeInfo& scheme = findScheme("mmh");
+  const Params params{{"relative-values", "float-differences"}};
+  const SyntheticMap map = SyntheticMap::random(64, DepthMode::Closed, 3);
+  const auto decoder = map.build(scheme, params, 64);
+  ByteWriter out;
+  decoder->save(out);
+  std::vector<uint8_t> bytes = out.release();
+  REQUIRE(!bytes.empty());
+  CHECK(bytes[0] == 1);  // float differences, not the key-delta fallback
+  const auto load = [&] {
+    ByteReader in(bytes);
+    return scheme.load(in, map.info(scheme.kind), scheme.resolve(params));
+  };
+  CHECK(load()->size() == decoder->size());
+  for (uint8_t kind : {uint8_t(2), uint8_t(255)}) {
+    bytes[0] = kind;
+    CHECK_THROWS_AS(load(), FormatError);
+  }
 }
 
 }  // namespace

@@ -10,7 +10,9 @@
 // 16 of the 24 offset bits (SBE16a's 64-bit node, 8 bits of padding); `mmh` all 24 (SBE16b §3.3).
 #pragma once
 
+#include <bit>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -28,8 +30,18 @@ struct OffsetQuadtree {
   std::vector<uint32_t> words;
 
   // How values combine down a path: MH stores each node's depth key (the deepest wins); MMH
-  // stores it relative to the parent's reconstructed key (the sum along the path, SBE16b Alg. 1).
-  enum class Values { Absolute, Relative };
+  // stores it relative to the parent's reconstructed key (the sum along the path, SBE16b Alg. 1),
+  // as a wrapping uint32 key delta (Relative) or, as the paper does, as a float32 difference
+  // summed in float32 (RelativeFloat: the key is the bit pattern of the running float sum).
+  enum class Values { Absolute, Relative, RelativeFloat };
+
+  // The key a path gives at a node holding `word`, below a path that gave `key`.
+  template <Values mode>
+  static uint32_t combine(uint32_t key, uint32_t word) {
+    if constexpr (mode == Values::Absolute) return word;
+    if constexpr (mode == Values::Relative) return key + word;
+    return std::bit_cast<uint32_t>(std::bit_cast<float>(key) + std::bit_cast<float>(word));
+  }
 
   // Where a walk stands: the `kind` node of `level` at word `position`, and the key its path
   // gives.
@@ -52,8 +64,7 @@ struct OffsetQuadtree {
     walk.position += uint64_t(link >> 8) * levelScale[walk.level] + siblingWords(flags, k);
     walk.kind = child;
     ++walk.level;
-    if (child != MhChild::Empty)
-      walk.key = mode == Values::Relative ? walk.key + words[walk.position] : words[walk.position];
+    if (child != MhChild::Empty) walk.key = combine<mode>(walk.key, words[walk.position]);
     return true;
   }
 
@@ -119,9 +130,9 @@ struct OffsetQuadtree {
       const MhChild child = MhChild(childFlag(flags, k));
       if (columns[k & 1] && rows[k >> 1]) {
         const uint32_t cx = x0 + (k & 1) * half, cy = y0 + (k >> 1) * half;
-        const uint32_t key = child == MhChild::None || child == MhChild::Empty ? walk.key
-                             : mode == Values::Relative ? walk.key + words[at]
-                                                        : words[at];
+        const uint32_t key = child == MhChild::None || child == MhChild::Empty
+                                 ? walk.key
+                                 : combine<mode>(walk.key, words[at]);
         if (child == MhChild::None || child == MhChild::Leaf)
           visit(key, overlap(rect, cx, cy, half));
         else
@@ -138,7 +149,10 @@ struct OffsetQuadtree {
 template <OffsetQuadtree::Values mode>
 class OffsetQuadtreeDecoder final : public HierarchicalDepthDecoder<OffsetQuadtreeDecoder<mode>> {
  public:
-  explicit OffsetQuadtreeDecoder(OffsetQuadtree tree) : tree_(std::move(tree)) {}
+  // `tag`, where given, is a byte saved before the tree (mmh's float-differences variant: which
+  // values the tree holds).
+  explicit OffsetQuadtreeDecoder(OffsetQuadtree tree, std::optional<uint8_t> tag = {})
+      : tree_(std::move(tree)), tag_(tag) {}
 
   uint32_t resolution() const { return uint32_t(1) << tree_.levels; }
   float depth(uint32_t i, uint32_t j) const {
@@ -153,11 +167,19 @@ class OffsetQuadtreeDecoder final : public HierarchicalDepthDecoder<OffsetQuadtr
   float coarseDepth(uint32_t i, uint32_t j, int coarser) const {
     return depthOfKey(tree_.texelKey<mode>(i << coarser, j << coarser, tree_.levels - coarser));
   }
-  SizeBreakdown size() const override { return tree_.size(); }
-  void save(ByteWriter& out) const override { tree_.save(out); }
+  SizeBreakdown size() const override {
+    SizeBreakdown size = tree_.size();
+    if (tag_) size.push_back({"value kind", 1});
+    return size;
+  }
+  void save(ByteWriter& out) const override {
+    if (tag_) out.put<uint8_t>(*tag_);
+    tree_.save(out);
+  }
 
  private:
   OffsetQuadtree tree_;
+  std::optional<uint8_t> tag_;
 };
 
 // Lays the hierarchy out in depth-first order. `values[n]` is the word stored for node n (Full
