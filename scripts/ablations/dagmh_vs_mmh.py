@@ -13,7 +13,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "reproduce"))
 
-from number_format import significant  # noqa: E402
+from number_format import integer, significant  # noqa: E402
 from records import component_bytes, counter, read_records, scheme_params, size_bytes  # noqa: E402
 from table_format import heading, markdown_table  # noqa: E402
 
@@ -24,13 +24,15 @@ PAPER_REMOVED_SHARE = 0.33
 
 
 def cells(records):
-    """{(scene name and mode, resolution): {variant: record}}; variant = scheme, or dag-mh at
-    skip level 0."""
+    """{(scene name and mode, resolution): {variant: record}}; variant = scheme, dag-mh at
+    skip level 0, or mmh with float differences."""
     table = {}
     for record in records:
         name = record["scheme"]["name"]
         if name == "dag-mh" and scheme_params(record).get("skip-level") == "0":
             name = "dag-mh skip 0"
+        if name == "mmh" and scheme_params(record).get("relative-values") == "float-differences":
+            name = "mmh float"
         key = (f'{record["scene"]["name"]}` {record["mode"]}', record["resolution"])
         kept = table.setdefault(key, {}).get(name)
         if kept is None or record.get("created", "") > kept.get("created", ""):
@@ -76,7 +78,31 @@ def column(variants):
         "dag-mh / mmh": size_bytes(dag) / mmh_bytes,
         "dag-mh values alone / mmh": value_bytes / mmh_bytes,
         "dag-mh / mmh at the paper's 33% removed": size_bytes(dag) / mmh_at_paper_share,
+    } | float_columns(variants.get("mmh float"), nodes, size_bytes(dag))
+
+
+def float_columns(mmh_float, mh_nodes, dag_bytes):
+    """mmh with the paper's float differences. Where a node's depth is out of every float sum's
+    reach the structure falls back to key deltas; its float matching is then a trial whose
+    counters the record keeps, and the columns show the trial (nodes only, not stored)."""
+    if mmh_float is None:
+        return {}
+    stored = counter(mmh_float, "float values") == 1
+    prefix = "" if stored else "float trial "
+    size = size_bytes(mmh_float) if stored else counter(mmh_float, "float trial bytes") or 0
+    return {
+        "mmh float: unrepresentable nodes (> 0: trial)":
+            counter(mmh_float, "unrepresentable nodes") or 0,
+        "mmh float: merges (k)": (counter(mmh_float, prefix + "merges") or 0) / 1e3,
+        "mmh float: nodes removed (% of MH)":
+            100 * (counter(mmh_float, prefix + "nodes removed") or 0) / mh_nodes,
+        "mmh float (MiB)": size / MIB,
+        "dag-mh / mmh float": dag_bytes / max(size, 1),
     }
+
+
+def shown(value):
+    return integer(value) if isinstance(value, int) else significant(value)
 
 
 def main():
@@ -95,8 +121,8 @@ def main():
         columns = {r: c for r, c in columns.items() if c}
         if not columns:
             continue
-        labels = next(iter(columns.values())).keys()
-        rows = [[label] + [significant(columns[r][label]) for r in columns] for label in labels]
+        labels = list(dict.fromkeys(label for c in columns.values() for label in c))
+        rows = [[label] + [shown(columns[r].get(label)) for r in columns] for label in labels]
         out += [f"## `{scene}", "",
                 markdown_table(["quantity"] + [heading(r) for r in columns], rows)]
     print("\n".join(out))

@@ -15,6 +15,7 @@ import sys
 import unittest
 
 import support
+from number_format import significant
 from records import read_records
 from scheme_registry import parse_schemes_json
 
@@ -23,6 +24,7 @@ from cells import Cells, TableError
 
 GOLDEN = support.HERE / "golden"
 DISPLAYED_RECORDS = "tests/python/fixtures/records"  # as the golden tables name the folder
+MIB = 1 << 20
 MAX_RESOLUTIONS = {"1K": 1024, "64K": 64 * 1024}
 
 
@@ -131,6 +133,36 @@ class IntervalTests(support.TemporaryFolder):
             share = 100 * record["counters"]["rejected interval"] / tested
             self.assertRegex(text, rf"\| mmh city closed, {re.escape(label)} \| 1K² \| [^|]+ \| "
                                    rf"{re.escape(f'{share:.3g}')} % \|")
+
+
+class SkipLevelZero(support.TemporaryFolder):
+    """The 2021 Table 1 twin shows dag-mh without its skip list as a row of its own, beside the
+    default's, and its ratio to mmh from that cell."""
+
+    def test_dag_mh_without_skip_list_has_its_rows(self):
+        name = ("city-size-36-seed-1_0_closed_dag-mh_chunk-size-32_skip-level-6_treelet-height-4_"
+                "1024.json")
+        mmh_name = "city-size-36-seed-1_0_closed_mmh_search-distance-1000_1024.json"
+        ours, mmh = support.fixture_record(name), support.fixture_record(mmh_name)
+        flat = copy.deepcopy(ours)
+        flat["scheme"]["params"]["skip-level"] = "0"
+        sizes = flat["size_bytes"]
+        sizes["total"] -= sizes["components"].pop("skip list")
+        for file_name, record in ((name, ours), ("flat.json", flat), (mmh_name, mmh)):
+            self.write(file_name, json.dumps(record))
+        with contextlib.redirect_stderr(io.StringIO()):
+            files = read_records(self.folder, "test", {})
+        defaults = parse_schemes_json(support.SCHEMES_JSON.read_text(encoding="utf-8"))
+        text = paper_tables.render("scandolo2021-table1",
+                                   Cells(files, defaults, self.folder, "test"),
+                                   arguments("scandolo2021-table1", "1K"))
+        for record, label in ((ours, r"\(DAG-MH, treelets of 4, chunks of 32\)"),
+                              (flat, r"\(skip level 0: no skip list\)")):
+            size = significant(record["size_bytes"]["total"] / MIB)
+            self.assertRegex(text, rf"\| dag-mh city closed {label} \| {re.escape(size)} \|")
+        ratio = 100 * flat["size_bytes"]["total"] / mmh["size_bytes"]["total"]
+        self.assertRegex(text, rf"\| city closed: dag-mh skip level 0 / mmh \| "
+                               rf"{re.escape(significant(ratio))} \|")
 
 
 class Refusals(support.TemporaryFolder):
