@@ -88,7 +88,8 @@ struct Variant {
 };
 const std::vector<Variant>& variants() {
   static const std::vector<Variant> list{
-      {"mmh", {{"relative-values", "float-differences"}}, "mmh float-differences"}};
+      {"mmh", {{"relative-values", "float-differences"}}, "mmh float-differences"},
+      {"cpvs-fast", {{"coarse-classification", "depth-hierarchy"}}, "cpvs-fast depth-hierarchy"}};
   return list;
 }
 

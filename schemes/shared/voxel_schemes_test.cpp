@@ -182,15 +182,34 @@ TEST_CASE("awkward maps: undefined columns, tile-border boundaries, an empty lig
   }
 }
 
+// Under either coarse classification: with the depth hierarchy the reuse of the volume in front
+// must also stop where a volume's classification changes (its lit or undefined volumes turning
+// undefined or shadowed), not only where the masks do.
 TEST_CASE("culling changes the work of cpvs-fast, never the structure", "[voxel]") {
   const SchemeInfo& fast = findScheme("cpvs-fast");
-  for (DepthMode mode : {DepthMode::Open, DepthMode::Closed}) {
-    const SyntheticMap map = SyntheticMap::random(128, mode, 33);
-    const auto culled = map.build(fast, {{"culling", "on"}}, 32);
-    const auto built = map.build(fast, {{"culling", "off"}}, 32);
-    CHECK(culled->size() == built->size());
-    CHECK(mismatches(map, *culled, 4) == 0);
-  }
+  for (const char* classification : {"masks", "depth-hierarchy"})
+    for (const char* transitions : {"aligned", "nearest-exit"})
+      for (const char* layout : {"slab8", "cube4"})
+        for (DepthMode mode : {DepthMode::Open, DepthMode::Closed, DepthMode::Static})
+          for (uint64_t seed : {33u, 34u}) {
+            INFO(classification << " " << transitions << " " << layout << " " << toString(mode)
+                                << " seed " << seed);
+            const SyntheticMap map = SyntheticMap::random(128, mode, seed);
+            const Params params{{"coarse-classification", classification},
+                                {"transitions", transitions},
+                                {"leaf-layout", layout}};
+            Params on = params, off = params;
+            on["culling"] = "on", off["culling"] = "off";
+            testing::CountingContext culledCounts, builtCounts;
+            const auto culled = testing::buildWhole(map, fast, on, 32, culledCounts);
+            const auto built = testing::buildWhole(map, fast, off, 32, builtCounts);
+            CHECK(culled->size() == built->size());
+            CHECK(culledCounts.counts.at("dag nodes") == builtCounts.counts.at("dag nodes"));
+            CHECK(culledCounts.counts.at("dag leafmasks") ==
+                  builtCounts.counts.at("dag leafmasks"));
+            CHECK(culledCounts.counts.at("nodes culled") > 0);
+            CHECK(mismatches(map, *culled, 4) == 0);
+          }
 }
 
 // Builds in parts (voxel_dag_parts.h): hash-consing across parts and joining the parts' columns
