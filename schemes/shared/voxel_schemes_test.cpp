@@ -220,21 +220,27 @@ TEST_CASE("a CPVS merged from parts is the whole build's DAG", "[voxel][parts]")
     uint32_t resolution, tile;
     std::vector<uint32_t> partSizes;
   };
-  for (const char* name : {"cpvs", "cpvs-fast"})
+  // cpvs-fast also with its coarse volumes classified by the depth hierarchy.
+  const std::pair<const char*, Params> variants[] = {
+      {"cpvs", {}},
+      {"cpvs-fast", {}},
+      {"cpvs-fast", {{"coarse-classification", "depth-hierarchy"}}}};
+  for (const auto& [name, variant] : variants)
     for (const Case& shape : {Case{64, 8, {8, 16, 32}}, Case{128, 16, {16, 64}}})
       for (DepthMode mode : {DepthMode::Open, DepthMode::Closed, DepthMode::Static})
         for (const char* layout : {"cube4", "slab8"})
           for (const char* grid : {"0", "2"}) {
             const SchemeInfo& scheme = findScheme(name);
-            const Params params{{"leaf-layout", layout}, {"grid-levels", grid}};
+            Params params = variant;
+            params["leaf-layout"] = layout, params["grid-levels"] = grid;
             const SyntheticMap map =
                 SyntheticMap::random(shape.resolution, mode, shape.resolution + 3 * int(mode));
             testing::CountingContext wholeCounts;
             const auto whole = testing::buildWhole(map, scheme, params, shape.tile, wholeCounts);
             for (uint32_t partSize : shape.partSizes) {
-              INFO(name << " " << toString(mode) << " " << layout << " grid " << grid << ", "
-                        << shape.resolution << "² in parts of " << partSize << "², tile "
-                        << shape.tile);
+              INFO(name << (variant.empty() ? "" : " depth-hierarchy") << " " << toString(mode)
+                        << " " << layout << " grid " << grid << ", " << shape.resolution
+                        << "² in parts of " << partSize << "², tile " << shape.tile);
               testing::CountingContext mergedCounts;
               const auto merged = testing::mergeParts(
                   map, scheme, params, shape.tile, partSize,
