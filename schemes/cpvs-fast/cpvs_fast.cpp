@@ -206,15 +206,18 @@ class CpvsFastEncoder final : public CubeColumnEncoder {
   }
 
   // The volume at `depth` whose tile-local corner is (x, y, z), in Z-order; sets `nextSurface`
-  // to the first slice after z where a surface may change its voxels or how it is classified.
+  // to the first slice after z where a surface may change its voxels: §3.2 takes it from the
+  // min-max hierarchy for a homogeneous volume (a lit one stays lit-or-undefined until litUntil,
+  // an undefined one until then too, a shadowed one for ever) and from the finest level below a
+  // split one. Reusing a volume for the one behind it before that slice is lossless under
+  // either classification: a voxel's state only goes lit, undefined, shadowed with depth, and
+  // before that slice none the reused node holds lit or undefined-as-lit turns shadowed.
   //
-  // §3.2 reuses a volume for the one behind it when that one ends before this slice, so the slice
-  // must bound every decision taken inside the volume: a lit volume stops being lit once it reaches
-  // litUntil, and (depth hierarchy) turns undefined once it starts at shadowFrom; an undefined
-  // one turns shadowed at litUntil; a split one may turn shadowed at shadowFrom, and its children
-  // may change at theirs. Over the masks litUntil ≤ shadowFrom, nothing is undefined and a split
-  // volume's children change before shadowFrom, so there the bounds are litUntil and the
-  // children's.
+  // Over the masks it also gives the structure built without reuse, as the masks' pyramid is
+  // exact. With the depth hierarchy it need not: the volume behind may already lie past every
+  // enter depth of a footprint that the one in front was lit or split in, where a fresh build
+  // would classify it undefined or shadowed. The paper's reuse keeps the node in front there,
+  // which is one more way of resolving undefined space (measured smaller, README).
   SvoChild insert(uint32_t x, uint32_t y, uint32_t z, uint32_t depth, uint32_t& nextSurface) {
     const uint32_t side = shape_.side(depth);
     const BlockPyramid::Bounds& bounds = pyramid_->footprint(x, y, side);
@@ -222,8 +225,7 @@ class CpvsFastEncoder final : public CubeColumnEncoder {
       case BlockPyramid::Volume::Shadowed:
         return complete(x, y, z, depth, {SvoChild::Shadowed}, nextSurface = kNever);
       case BlockPyramid::Volume::Lit:
-        return complete(x, y, z, depth, {SvoChild::Lit},
-                        nextSurface = std::min(bounds.litUntil, bounds.shadowFrom));
+        return complete(x, y, z, depth, {SvoChild::Lit}, nextSurface = bounds.litUntil);
       case BlockPyramid::Volume::Undefined:  // resolved by the parent (resolveByParent)
         return complete(x, y, z, depth, {SvoChild::Undefined}, nextSurface = bounds.litUntil);
       case BlockPyramid::Volume::Mixed:
@@ -232,7 +234,7 @@ class CpvsFastEncoder final : public CubeColumnEncoder {
     if (SvoChild reused; reuse(x, y, z, depth, reused, nextSurface)) return reused;
 
     std::array<SvoChild, 8> children;
-    nextSurface = bounds.shadowFrom;
+    nextSurface = kNever;
     for (uint32_t c = 0; c < 8; ++c) {
       uint32_t childNext = 0;
       if (depth < shape_.leafParentDepth()) {

@@ -182,10 +182,11 @@ TEST_CASE("awkward maps: undefined columns, tile-border boundaries, an empty lig
   }
 }
 
-// Under either coarse classification: with the depth hierarchy the reuse of the volume in front
-// must also stop where a volume's classification changes (its lit or undefined volumes turning
-// undefined or shadowed), not only where the masks do.
-TEST_CASE("culling changes the work of cpvs-fast, never the structure", "[voxel]") {
+// Over the masks, culling never changes the structure. With the depth hierarchy the paper's
+// reuse may keep the node in front where a fresh build would classify the volume behind
+// differently (only its undefined voxels differ): there both builds must answer every defined
+// voxel as the map says.
+TEST_CASE("culling changes the work of cpvs-fast, never its answers", "[voxel]") {
   const SchemeInfo& fast = findScheme("cpvs-fast");
   for (const char* classification : {"masks", "depth-hierarchy"})
     for (const char* transitions : {"aligned", "nearest-exit"})
@@ -203,12 +204,15 @@ TEST_CASE("culling changes the work of cpvs-fast, never the structure", "[voxel]
             testing::CountingContext culledCounts, builtCounts;
             const auto culled = testing::buildWhole(map, fast, on, 32, culledCounts);
             const auto built = testing::buildWhole(map, fast, off, 32, builtCounts);
-            CHECK(culled->size() == built->size());
-            CHECK(culledCounts.counts.at("dag nodes") == builtCounts.counts.at("dag nodes"));
-            CHECK(culledCounts.counts.at("dag leafmasks") ==
-                  builtCounts.counts.at("dag leafmasks"));
             CHECK(culledCounts.counts.at("nodes culled") > 0);
             CHECK(mismatches(map, *culled, 4) == 0);
+            CHECK(mismatches(map, *built, 4) == 0);
+            if (std::string(classification) == "masks") {
+              CHECK(culled->size() == built->size());
+              CHECK(culledCounts.counts.at("dag nodes") == builtCounts.counts.at("dag nodes"));
+              CHECK(culledCounts.counts.at("dag leafmasks") ==
+                    builtCounts.counts.at("dag leafmasks"));
+            }
           }
 }
 
