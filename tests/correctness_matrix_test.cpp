@@ -88,7 +88,13 @@ struct Variant {
 };
 const std::vector<Variant>& variants() {
   static const std::vector<Variant> list{
-      {"mmh", {{"relative-values", "float-differences"}}, "mmh float-differences"}};
+      {"mmh", {{"relative-values", "float-differences"}}, "mmh float-differences"},
+      {"cpvs-fast", {{"coarse-classification", "depth-hierarchy"}}, "cpvs-fast depth-hierarchy"},
+      // With the depth hierarchy, culling may change the structure (cpvs-fast README): both are
+      // checked.
+      {"cpvs-fast",
+       {{"coarse-classification", "depth-hierarchy"}, {"culling", "off"}},
+       "cpvs-fast depth-hierarchy culling-off"}};
   return list;
 }
 

@@ -1,7 +1,9 @@
 // cpvs-fast — fast, memory-efficient construction of voxelized shadows (Kämpe, Sintorn,
 // Assarsson 2015). The output is a CPVS read by the same lookups as `cpvs`; what differs is how
 // it is built (§3.2: in Z-order, reusing the node of the volume in front instead of creating an
-// identical one) and how undefined space is resolved (§3.4: per 8×8 block visibility masks).
+// identical one) and how undefined space is resolved (§3.4: per 8×8 block visibility masks; above
+// the leafmasks either by the masks themselves or, as the paper does, by the min-max hierarchy of
+// the enter and exit depth maps).
 #include <algorithm>
 #include <bit>
 #include <optional>
@@ -104,11 +106,27 @@ void appendVisibilityMasks(const SliceInterval (&cells)[64], uint32_t depthResol
   masks.first.push_back(uint32_t(masks.starts.size()));
 }
 
+// What classifies a volume coarser than a leafmask (the leafmasks always read the masks).
+//  - Masks: a pyramid over the masks themselves, so that a volume is homogeneous exactly when its
+//    resolved voxels are; undefined space is resolved once, per block, by the masks.
+//  - DepthHierarchy: as Kämpe §3 and §3.4 describe it, the min-max hierarchy of the enter and
+//    exit depth maps down to one entry per 8×8 block (§5.1), as Sintorn §6.1 classifies: a
+//    volume before every exit depth of its footprint is lit, one after every enter depth is
+//    shadowed, one that is both is undefined and left to its parent (lit beside lit, shadowed
+//    beside shadowed, shadowed in a node that holds both). A coarse volume thus uses the
+//    undefined space of all its blocks at once, where the masks have each fixed it for their own
+//    block; only at the finest level are the masks read ("we now never have to query the finest
+//    level of the min-max depth hierarchy, and instead query the visibility masks", §3.4).
+enum class CoarseClassification { Masks, DepthHierarchy };
+
 class CpvsFastEncoder final : public CubeColumnEncoder {
  public:
   CpvsFastEncoder(const MapInfo& map, VoxelDagConfig config, const MapPart& region, bool culling,
-                  Transitions transitions)
-      : CubeColumnEncoder(map, config, region), culling_(culling), transitions_(transitions) {}
+                  Transitions transitions, CoarseClassification classification)
+      : CubeColumnEncoder(map, config, region),
+        culling_(culling),
+        transitions_(transitions),
+        classification_(classification) {}
 
  private:
   void prepareTile(const DualDepthTile& tile, BuildContext& context) override {
@@ -126,17 +144,18 @@ class CpvsFastEncoder final : public CubeColumnEncoder {
         appendVisibilityMasks(cells, resolution, transitions_, masks_);
       }
 
-    // The pyramid over the masks themselves, so that a volume is homogeneous exactly when its
-    // resolved voxels are.
     context.phase("min-max");
-    pyramid_.emplace(tileSize(), [&](uint32_t bx, uint32_t by) {
-      const VisibilityMasks block = masks_.block(size_t(by) * blocksPerSide_ + bx);
-      const size_t last = block.count - 1;
-      return BlockPyramid::Bounds{block.lit[0] != ~uint64_t(0) ? 0
-                                  : block.count > 1            ? block.starts[1]
-                                                               : kNever,
-                                  block.lit[last] == 0 ? block.starts[last] : kNever};
-    });
+    if (classification_ == CoarseClassification::DepthHierarchy)
+      pyramid_.emplace(BlockPyramid::over(intervals_, tileSize()));
+    else
+      pyramid_.emplace(tileSize(), [&](uint32_t bx, uint32_t by) {
+        const VisibilityMasks block = masks_.block(size_t(by) * blocksPerSide_ + bx);
+        const size_t last = block.count - 1;
+        return BlockPyramid::Bounds{block.lit[0] != ~uint64_t(0) ? 0
+                                    : block.count > 1            ? block.starts[1]
+                                                                 : kNever,
+                                    block.lit[last] == 0 ? block.starts[last] : kNever};
+      });
 
     reuse_.assign(shape_.leafParentDepth() + 2, {});
     for (uint32_t d = cubeDepth(); d < reuse_.size(); ++d) {
@@ -187,14 +206,31 @@ class CpvsFastEncoder final : public CubeColumnEncoder {
   }
 
   // The volume at `depth` whose tile-local corner is (x, y, z), in Z-order; sets `nextSurface`
-  // to the first slice after z where a surface may change its voxels.
+  // to the first slice after z where a surface may change its voxels: §3.2 takes it from the
+  // min-max hierarchy for a homogeneous volume (a lit one stays lit-or-undefined until litUntil,
+  // an undefined one until then too, a shadowed one for ever) and from the finest level below a
+  // split one. Reusing a volume for the one behind it before that slice is lossless under
+  // either classification: a voxel's state only goes lit, undefined, shadowed with depth, and
+  // before that slice none the reused node holds lit or undefined-as-lit turns shadowed.
+  //
+  // Over the masks it also gives the structure built without reuse, as the masks' pyramid is
+  // exact. With the depth hierarchy it need not: the volume behind may already lie past every
+  // enter depth of a footprint that the one in front was lit or split in, where a fresh build
+  // would classify it undefined or shadowed. The paper's reuse keeps the node in front there,
+  // which is one more way of resolving undefined space (measured smaller, README).
   SvoChild insert(uint32_t x, uint32_t y, uint32_t z, uint32_t depth, uint32_t& nextSurface) {
     const uint32_t side = shape_.side(depth);
     const BlockPyramid::Bounds& bounds = pyramid_->footprint(x, y, side);
-    if (z >= bounds.shadowFrom)
-      return complete(x, y, z, depth, {SvoChild::Shadowed}, nextSurface = kNever);
-    if (z + side - 1 < bounds.litUntil)
-      return complete(x, y, z, depth, {SvoChild::Lit}, nextSurface = bounds.litUntil);
+    switch (pyramid_->classify(x, y, side, z, z + side - 1)) {
+      case BlockPyramid::Volume::Shadowed:
+        return complete(x, y, z, depth, {SvoChild::Shadowed}, nextSurface = kNever);
+      case BlockPyramid::Volume::Lit:
+        return complete(x, y, z, depth, {SvoChild::Lit}, nextSurface = bounds.litUntil);
+      case BlockPyramid::Volume::Undefined:  // resolved by the parent (resolveByParent)
+        return complete(x, y, z, depth, {SvoChild::Undefined}, nextSurface = bounds.litUntil);
+      case BlockPyramid::Volume::Mixed:
+        break;
+    }
     if (SvoChild reused; reuse(x, y, z, depth, reused, nextSurface)) return reused;
 
     std::array<SvoChild, 8> children;
@@ -258,6 +294,7 @@ class CpvsFastEncoder final : public CubeColumnEncoder {
 
   bool culling_;
   Transitions transitions_;
+  CoarseClassification classification_;
   uint32_t blocksPerSide_ = 0;
   std::vector<SliceInterval> intervals_;
   TileMasks masks_;
@@ -282,12 +319,20 @@ SchemeInfo cpvsFast() {
                                           "rule allows",
                                           "aligned", {"nearest-exit", "aligned"},
                                           {"nearest-exit", "aligned"}));
+  info.params.push_back(ParamSpec::choice(
+      "coarse-classification",
+      "what classifies volumes above the leafmasks: the visibility masks' own pyramid, or the "
+      "min-max hierarchy of the enter and exit depth maps with Sintorn's parent rule for "
+      "undefined volumes, as Kämpe §3/§3.4 do (the masks then only at the finest level)",
+      "masks", {"masks", "depth-hierarchy"}, {"masks", "depth-hierarchy"}));
   setCubeColumnBuilds(info, [](const MapInfo& map, const VoxelDagConfig& config,
                                const ParamValues& params, const MapPart& region) {
-    return std::make_unique<CpvsFastEncoder>(map, config, region, params.choice("culling") == "on",
-                                             params.choice("transitions") == "aligned"
-                                                 ? Transitions::Aligned
-                                                 : Transitions::NearestExit);
+    return std::make_unique<CpvsFastEncoder>(
+        map, config, region, params.choice("culling") == "on",
+        params.choice("transitions") == "aligned" ? Transitions::Aligned : Transitions::NearestExit,
+        params.choice("coarse-classification") == "depth-hierarchy"
+            ? CoarseClassification::DepthHierarchy
+            : CoarseClassification::Masks);
   });
   return info;
 }

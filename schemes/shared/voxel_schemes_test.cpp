@@ -182,15 +182,38 @@ TEST_CASE("awkward maps: undefined columns, tile-border boundaries, an empty lig
   }
 }
 
-TEST_CASE("culling changes the work of cpvs-fast, never the structure", "[voxel]") {
+// Over the masks, culling never changes the structure. With the depth hierarchy the paper's
+// reuse may keep the node in front where a fresh build would classify the volume behind
+// differently (only its undefined voxels differ): there both builds must answer every defined
+// voxel as the map says.
+TEST_CASE("culling changes the work of cpvs-fast, never its answers", "[voxel]") {
   const SchemeInfo& fast = findScheme("cpvs-fast");
-  for (DepthMode mode : {DepthMode::Open, DepthMode::Closed}) {
-    const SyntheticMap map = SyntheticMap::random(128, mode, 33);
-    const auto culled = map.build(fast, {{"culling", "on"}}, 32);
-    const auto built = map.build(fast, {{"culling", "off"}}, 32);
-    CHECK(culled->size() == built->size());
-    CHECK(mismatches(map, *culled, 4) == 0);
-  }
+  for (const char* classification : {"masks", "depth-hierarchy"})
+    for (const char* transitions : {"aligned", "nearest-exit"})
+      for (const char* layout : {"slab8", "cube4"})
+        for (DepthMode mode : {DepthMode::Open, DepthMode::Closed, DepthMode::Static})
+          for (uint64_t seed : {33u, 34u}) {
+            INFO(classification << " " << transitions << " " << layout << " " << toString(mode)
+                                << " seed " << seed);
+            const SyntheticMap map = SyntheticMap::random(128, mode, seed);
+            const Params params{{"coarse-classification", classification},
+                                {"transitions", transitions},
+                                {"leaf-layout", layout}};
+            Params on = params, off = params;
+            on["culling"] = "on", off["culling"] = "off";
+            testing::CountingContext culledCounts, builtCounts;
+            const auto culled = testing::buildWhole(map, fast, on, 32, culledCounts);
+            const auto built = testing::buildWhole(map, fast, off, 32, builtCounts);
+            CHECK(culledCounts.counts.at("nodes culled") > 0);
+            CHECK(mismatches(map, *culled, 4) == 0);
+            CHECK(mismatches(map, *built, 4) == 0);
+            if (std::string(classification) == "masks") {
+              CHECK(culled->size() == built->size());
+              CHECK(culledCounts.counts.at("dag nodes") == builtCounts.counts.at("dag nodes"));
+              CHECK(culledCounts.counts.at("dag leafmasks") ==
+                    builtCounts.counts.at("dag leafmasks"));
+            }
+          }
 }
 
 // Builds in parts (voxel_dag_parts.h): hash-consing across parts and joining the parts' columns
@@ -201,21 +224,27 @@ TEST_CASE("a CPVS merged from parts is the whole build's DAG", "[voxel][parts]")
     uint32_t resolution, tile;
     std::vector<uint32_t> partSizes;
   };
-  for (const char* name : {"cpvs", "cpvs-fast"})
+  // cpvs-fast also with its coarse volumes classified by the depth hierarchy.
+  const std::pair<const char*, Params> variants[] = {
+      {"cpvs", {}},
+      {"cpvs-fast", {}},
+      {"cpvs-fast", {{"coarse-classification", "depth-hierarchy"}}}};
+  for (const auto& [name, variant] : variants)
     for (const Case& shape : {Case{64, 8, {8, 16, 32}}, Case{128, 16, {16, 64}}})
       for (DepthMode mode : {DepthMode::Open, DepthMode::Closed, DepthMode::Static})
         for (const char* layout : {"cube4", "slab8"})
           for (const char* grid : {"0", "2"}) {
             const SchemeInfo& scheme = findScheme(name);
-            const Params params{{"leaf-layout", layout}, {"grid-levels", grid}};
+            Params params = variant;
+            params["leaf-layout"] = layout, params["grid-levels"] = grid;
             const SyntheticMap map =
                 SyntheticMap::random(shape.resolution, mode, shape.resolution + 3 * int(mode));
             testing::CountingContext wholeCounts;
             const auto whole = testing::buildWhole(map, scheme, params, shape.tile, wholeCounts);
             for (uint32_t partSize : shape.partSizes) {
-              INFO(name << " " << toString(mode) << " " << layout << " grid " << grid << ", "
-                        << shape.resolution << "² in parts of " << partSize << "², tile "
-                        << shape.tile);
+              INFO(name << (variant.empty() ? "" : " depth-hierarchy") << " " << toString(mode)
+                        << " " << layout << " grid " << grid << ", " << shape.resolution
+                        << "² in parts of " << partSize << "², tile " << shape.tile);
               testing::CountingContext mergedCounts;
               const auto merged = testing::mergeParts(
                   map, scheme, params, shape.tile, partSize,

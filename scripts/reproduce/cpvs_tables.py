@@ -12,6 +12,9 @@ from table_format import (MIB, heading, markdown_table, preamble, resolution_col
                           row, shadow_map_16, significant)
 
 CULLING_ON = {"culling": "on"}  # cpvs-fast as Kämpe's Tables 2-4 measure it
+# cpvs-fast's coarse volumes classified as the paper does (Kämpe §3, §3.4), beside the default
+# (the masks' own pyramid); Table 2 shows both.
+DEPTH_HIERARCHY = {"coarse-classification": "depth-hierarchy"}
 
 
 def sintorn_fig9_bytes(build):
@@ -71,12 +74,12 @@ def sintorn2014_fig9(records, args):
 def kampe2015_table1(records, args):
     columns = resolution_columns(
         {r for m in ("open", "closed") for c in ("on", "off")
-         for r in records.find("cpvs-fast", "city", m, {"culling": c})},
+         for r in records.at_defaults("cpvs-fast", "city", m, {"culling": c})},
         KAMPE_RESOLUTIONS, args.max_resolution)
     rows = []
     for paper_mode, mode in (("non-closed", "open"), ("closed", "closed")):
         for culling in ("off", "on"):
-            found = records.find("cpvs-fast", "city", mode, {"culling": culling})
+            found = records.at_defaults("cpvs-fast", "city", mode, {"culling": culling})
             total, insert_merge = KAMPE_TABLE1[(paper_mode, culling)]
             ours_im = {}
             for r, rec in found.items():
@@ -114,30 +117,39 @@ def kampe2015_table2(records, args):
         args, records, [("ClosedCity", "city"), ("FractalLandscape", "terrain")],
         "MiB = 2^20 bytes (the paper's MB are 10^6 bytes, converted), 3 significant digits; "
         "old = `cpvs` (Sintorn 2014: undefined resolved to shadowed), new = `cpvs-fast` (Kämpe "
-        "§3.4: undefined resolved to minimise the visibility masks per 8×8 tile); ratio = "
-        "old / new. Mode closed.")
+        "§3.4: undefined resolved to minimise the visibility masks per 8×8 tile), culling on, "
+        "with its coarse volumes classified two ways: masks = by the masks' own pyramid (the "
+        "default), depth = by the min-max hierarchy of the enter and exit depth maps with "
+        "Sintorn's parent rule, the masks only at the finest level (coarse-classification="
+        "depth-hierarchy, as the paper does); ratio = old / new. Mode closed.")
     lines += ["– = not built / not in the paper.", ""]
     for paper_scene, scene in (("ClosedCity", "city"), ("FractalLandscape", "terrain")):
         old = {r: size_bytes(rec) for r, rec in records.find("cpvs", scene, "closed").items()}
-        new = {r: size_bytes(rec)
-               for r, rec in records.find("cpvs-fast", scene, "closed", CULLING_ON).items()}
+        new = {classification: {r: size_bytes(rec) for r, rec in records.at_defaults(
+                   "cpvs-fast", scene, "closed", {**CULLING_ON, **params}).items()}
+               for classification, params in (("masks", {}), ("depth", DEPTH_HIERARCHY))}
         new_mb, old_mb, ratios = KAMPE_TABLE2[paper_scene]
         paper_new, paper_old = (parse_row(t, KAMPE_RESOLUTIONS, decimal_bytes)
                                 for t in (new_mb, old_mb))
         paper_ratio = parse_row(ratios, KAMPE_RESOLUTIONS, float)
-        columns = resolution_columns(set(old) | set(new), KAMPE_RESOLUTIONS, args.max_resolution)
+        columns = resolution_columns(set(old) | set(new["masks"]) | set(new["depth"]),
+                                     KAMPE_RESOLUTIONS, args.max_resolution)
 
         def ratio(o, n, r):
             return o[r] / n[r] if r in o and r in n else None
 
         rows = [[heading(r),
-                 significant(new.get(r) and new[r] / MIB), significant(old.get(r) and old[r] / MIB),
-                 significant(ratio(old, new, r)),
+                 significant(new["masks"].get(r) and new["masks"][r] / MIB),
+                 significant(new["depth"].get(r) and new["depth"][r] / MIB),
+                 significant(old.get(r) and old[r] / MIB),
+                 significant(ratio(old, new["masks"], r)),
+                 significant(ratio(old, new["depth"], r)),
                  significant(paper_new.get(r) and paper_new[r] / MIB),
                  significant(paper_old.get(r) and paper_old[r] / MIB),
                  significant(paper_ratio.get(r))] for r in columns]
         lines += [f"## {scene} closed (stands in for {paper_scene})", "",
-                  markdown_table(["resolution", "new (MiB)", "old (MiB)", "ratio",
+                  markdown_table(["resolution", "new, masks (MiB)", "new, depth (MiB)",
+                                  "old (MiB)", "ratio, masks", "ratio, depth",
                                   f"paper: {paper_scene} new", f"paper: {paper_scene} old",
                                   "paper: ratio"], rows)]
     return lines
@@ -163,7 +175,7 @@ def kampe2015_table3(records, args):
              ("insert", lambda rec: phase_seconds(rec, "insert"), ("insert nodes",)),
              ("merge", lambda rec: phase_seconds(rec, "merge"), ("merge nodes",))]
     for paper_mode, mode in (("non-closed", "open"), ("closed", "closed")):
-        found = records.find("cpvs-fast", "city", mode, CULLING_ON)
+        found = records.at_defaults("cpvs-fast", "city", mode, CULLING_ON)
         paper = {step: parse_row(text, KAMPE_TABLE3_RESOLUTIONS, seconds)
                  for step, text in KAMPE_TABLE3[paper_mode].items()}
         columns = resolution_columns(found, KAMPE_TABLE3_RESOLUTIONS, args.max_resolution)
@@ -202,7 +214,8 @@ def kampe2015_table4(records, args):
               ("cpvs", "city", "closed", None),
               ("cpvs", "terrain", "closed", "Sintorn 2014 closed (FractalLandscape)")]
     found = {b: {r: total_seconds(rec) for r, rec in
-                 records.find(*b[:3], CULLING_ON if b[0] == "cpvs-fast" else None).items()}
+                 (records.at_defaults(*b[:3], CULLING_ON) if b[0] == "cpvs-fast"
+                  else records.find(*b[:3])).items()}
              for b in builds}
     columns = resolution_columns({r for v in found.values() for r in v}, KAMPE_RESOLUTIONS,
                                  args.max_resolution)

@@ -165,6 +165,32 @@ class SkipLevelZero(support.TemporaryFolder):
                                rf"{re.escape(significant(ratio))} \|")
 
 
+class CoarseClassifications(support.TemporaryFolder):
+    """Kämpe Table 2 shows cpvs-fast's coarse volumes classified both ways, each from its own
+    cell, beside cpvs: a folder holding both variants is not refused as mixed."""
+
+    def test_both_classifications_have_columns(self):
+        prefix = "city-size-36-seed-1_0_closed_cpvs"
+        old = support.fixture_record(f"{prefix}_grid-levels-0_leaf-layout-slab8_1024.json")
+        masks = support.fixture_record(f"{prefix}-fast_culling-on_grid-levels-0_"
+                                       "leaf-layout-slab8_transitions-aligned_1024.json")
+        depth = copy.deepcopy(masks)
+        depth["scheme"]["params"]["coarse-classification"] = "depth-hierarchy"
+        depth["size_bytes"]["total"] = masks["size_bytes"]["total"] * 3 // 4
+        for name, record in (("old", old), ("masks", masks), ("depth", depth)):
+            self.write(f"{name}.json", json.dumps(record))
+        with contextlib.redirect_stderr(io.StringIO()):
+            files = read_records(self.folder, "test", {})
+        defaults = parse_schemes_json(support.SCHEMES_JSON.read_text(encoding="utf-8"))
+        text = paper_tables.render("kampe2015-table2", Cells(files, defaults, self.folder,
+                                                             "test"),
+                                   arguments("kampe2015-table2", "1K"))
+        sizes = [r["size_bytes"]["total"] for r in (masks, depth, old)]
+        cells = [f"{b / (1 << 20):.3g}" for b in sizes]
+        cells += [f"{sizes[2] / b:.3g}" for b in sizes[:2]]
+        self.assertIn(f"| 1K² | {' | '.join(cells)} | – | – | – |\n", text)
+
+
 class Refusals(support.TemporaryFolder):
 
     def records_of(self, *names, edit=None):

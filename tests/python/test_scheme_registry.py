@@ -12,7 +12,7 @@ REGISTRY_DEFAULTS = {
     "compressed-sm": {"segment-span": "16384"}, "mh": {}, "openvdb": {}, "sm32": {},
     "cpvs": {"leaf-layout": "slab8", "grid-levels": "0"},
     "cpvs-fast": {"leaf-layout": "slab8", "grid-levels": "0", "culling": "on",
-                  "transitions": "aligned"},
+                  "transitions": "aligned", "coarse-classification": "masks"},
     "dag-mh": {"treelet-height": "4", "chunk-size": "32", "skip-level": "6"},
     "mmh": {"search-distance": "1000", "interval-test": "both-ways",
             "relative-values": "key-deltas"},
