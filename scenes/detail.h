@@ -15,7 +15,7 @@ namespace sb::detail {
 Scene generateCity(const GeneratorKnobs& knobs);
 Scene generateTerrain(uint32_t size, uint64_t seed);
 Scene generateForest(uint32_t size, uint64_t seed);
-Scene generateTangle(uint32_t size, uint64_t seed);
+Scene generateTangle(const GeneratorKnobs& knobs);
 
 // GeneratorInfo::footprint of each generator; like the generator, each throws a SceneError
 // for a size outside the generator's range.
@@ -24,7 +24,9 @@ std::vector<StyleKnob> cityStyleKnobs();
 std::vector<GeneratorPreset> cityPresets();
 SceneFootprint terrainFootprint(uint32_t size);
 SceneFootprint forestFootprint(uint32_t size);
-SceneFootprint tangleFootprint(uint32_t size);
+SceneFootprint tangleFootprint(const GeneratorKnobs& knobs);
+std::vector<StyleKnob> tangleStyleKnobs();
+std::vector<GeneratorPreset> tanglePresets();
 
 // The bytes of `vertices` and `triangles` in meshes grown by push_back, whose capacity may be
 // twice their size.

@@ -165,12 +165,15 @@ const std::vector<GeneratorInfo>& sceneGenerators() {
                           "trees per side",
            .defaultSize = 8,
            .fullSize = 45}),
-      withoutStyle<detail::generateTangle, detail::tangleFootprint>(
-          {.name = "tangle",
-           .description =
-               "dense knot of closed tubes in a ball (hairball stand-in); size = number of tubes",
-           .defaultSize = 12,
-           .fullSize = 650}),
+      {.name = "tangle",
+       .description =
+           "dense knot of closed tubes in a ball (hairball stand-in); size = number of tubes",
+       .defaultSize = 12,
+       .fullSize = 650,
+       .styleKnobs = detail::tangleStyleKnobs(),
+       .presets = detail::tanglePresets(),
+       .generate = detail::generateTangle,
+       .footprint = detail::tangleFootprint},
   };
   return generators;
 }

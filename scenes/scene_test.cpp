@@ -77,6 +77,7 @@ TEST_CASE("generated scenes are deterministic and match their golden hashes",
   // Style knobs and presets: the fractal hills and turns by portableSinCos, pinned too.
   CHECK(sb::openScene("city:size=2,relief=60,turn=90").hash() == "d9e4773ab01c06b1");
   CHECK(sb::openScene("city:cityscape").hash() == "a0d9a26bd01b5811");
+  CHECK(sb::openScene("tangle:hairball").hash() == "7ba3a03b005d5741");
   for (const auto& g : sb::sceneGenerators()) {
     INFO("generator " << g.name);
     const std::string first = g.generate({g.defaultSize, 1}).hash();
@@ -166,15 +167,17 @@ TEST_CASE("style knobs at 0 leave the city as it was; presets are named knobs",
   const Scene styled = sb::openScene("city:turn=30,size=3,relief=40");
   CHECK(styled.name == "city:size=3,seed=1,relief=40,turn=30");
   CHECK(sb::openScene(styled.name).hash() == styled.hash());
-  for (const sb::GeneratorPreset& preset : generator("city").presets) {
-    INFO("preset " << preset.name);
-    const sb::GeneratorKnobs knobs{preset.size, preset.seed, preset.style};
-    CHECK(sb::openScene("city:" + preset.name).hash() == generator("city").generate(knobs).hash());
-    for (const char* knob : {"size", "seed"})
-      CHECK_THAT(sceneErrorOf([&] { sb::openScene("city:" + preset.name + "," + knob + "=2"); }),
-                 Catch::Contains(std::string(knob) + " given twice"));
-    CHECK(!preset.fittedTo.empty());
-  }
+  for (const auto& g : sb::sceneGenerators())
+    for (const sb::GeneratorPreset& preset : g.presets) {
+      const std::string spec = g.name + ":" + preset.name;
+      INFO("preset " << spec);
+      const sb::GeneratorKnobs knobs{preset.size, preset.seed, preset.style};
+      CHECK(sb::openScene(spec).hash() == g.generate(knobs).hash());
+      for (const char* knob : {"size", "seed"})
+        CHECK_THAT(sceneErrorOf([&] { sb::openScene(spec + "," + knob + "=2"); }),
+                   Catch::Contains(std::string(knob) + " given twice"));
+      CHECK(!preset.fittedTo.empty());
+    }
   for (const char* spec :
        {"city:relief=1001", "city:turn=91", "city:relief=-1", "city:turn=1,turn=2",
         "city:relief=99999999999", "terrain:relief=3", "tangle:turn=1"}) {
@@ -187,9 +190,33 @@ TEST_CASE("style knobs at 0 leave the city as it was; presets are named knobs",
   CHECK_THAT(sceneErrorOf([] { sb::openScene("terrain:relief=3"); }),
              Catch::Contains("unknown knob 'relief=3'"));
   CHECK_THAT(sceneErrorOf([] {
-               generator("tangle").generate({3, 1, {1}});
+               generator("terrain").generate({3, 1, {1}});
              }),
              Catch::Contains("1 style knobs given, it has 0"));
+}
+
+TEST_CASE("a tangle's radius knob widens its tubes and nothing else",
+          "[scenes][generators][style]") {
+  // 80 thousandths is the default radius: the same bytes as no knob.
+  CHECK(sb::openScene("tangle:size=3,radius=80").hash() == sb::openScene("tangle:size=3").hash());
+  CHECK(sb::openScene("tangle:size=3,radius=40").hash() == "7cd0f4e75b069102");
+  const Scene thin = sb::openScene("tangle:size=1,radius=80");
+  const Scene thick = sb::openScene("tangle:size=1,radius=160");
+  checkSceneInvariants(thick);
+  REQUIRE(thick.meshes.size() == 1);
+  CHECK(thick.meshes[0].closed);
+  CHECK(sb::checkWatertight(thick.meshes[0]).watertight());
+  CHECK(thick.meshes[0].triangles == thin.meshes[0].triangles);
+  // The same centre line: the extreme vertex moves out by the radius's growth, 0.08, at most,
+  // and at least by its projection at a hexagon's corner (cos 30°).
+  for (int axis = 0; axis < 3; ++axis) {
+    INFO("axis " << axis);
+    const float grown = thick.bounds().max[axis] - thin.bounds().max[axis];
+    CHECK(grown >= 0.08f * 0.866f - 1e-4f);
+    CHECK(grown <= 0.08f + 1e-4f);
+  }
+  CHECK_THAT(sceneErrorOf([] { sb::openScene("tangle:radius=301"); }),
+             Catch::Contains("radius 301 out of range [0, 300]"));
 }
 
 TEST_CASE("a city on hills stands on them, closed, its buildings turned inside their lots",
@@ -428,7 +455,7 @@ TEST_CASE("loader errors name the file and the problem", "[scenes][errors]") {
       R"({"meshes": [{"name": "a", "generator": "city", "size": 1, "style": {"turn": 91}}]})");
   const fs::path styleUnknown = dir.write(
       "styleunknown.json",
-      R"({"meshes": [{"name": "a", "generator": "tangle", "size": 1, "style": {"relief": 4}}]})");
+      R"({"meshes": [{"name": "a", "generator": "terrain", "size": 2, "style": {"relief": 4}}]})");
   const fs::path styleWithoutGenerator = dir.write(
       "stylebox.json",
       R"({"meshes": [{"name": "a", "box": {"min": [0,0,0], "max": [1,1,1]}, "style": {}}]})");
@@ -463,7 +490,7 @@ TEST_CASE("loader errors name the file and the problem", "[scenes][errors]") {
       {badGenerator, "unknown generator 'castle' (valid: city, terrain, forest, tangle)"},
       {openGenerator, "open"},
       {styleOutOfRange, "meshes[0].style.turn: 91 out of range [0, 90]"},
-      {styleUnknown, "meshes[0].style: generator 'tangle' has no style knobs"},
+      {styleUnknown, "meshes[0].style: generator 'terrain' has no style knobs"},
       {styleWithoutGenerator, "'size', 'seed' and 'style' belong to a 'generator' mesh"},
       {missingModel, "nowhere.obj': no such file"},
       {badLight, "lights[0].direction: direction must not be zero"},

@@ -18,6 +18,9 @@ namespace {
 constexpr uint32_t kMinSize = 1, kMaxSize = 20000;
 constexpr float kBallRadius = 10.0f;
 constexpr float kTubeRadius = 0.08f;
+// The `radius` style knob, in thousandths of a unit. At most 0.3: the bending radius below
+// stays above it.
+constexpr uint32_t kMaxRadiusKnob = 300;
 constexpr float kStep = 0.15f;  // distance between successive rings
 constexpr int kSides = 6, kRings = 256;
 // The largest change of direction per step: |Δd| ≤ 0.4, so turns stay below asin(0.4) per
@@ -49,8 +52,26 @@ std::vector<glm::vec3> strandPath(Rng& rng) {
 
 }  // namespace
 
-SceneFootprint tangleFootprint(uint32_t size) {
-  checkSize("tangle", size, kMinSize, kMaxSize);
+std::vector<StyleKnob> tangleStyleKnobs() {
+  return {{"radius", "tube radius in thousandths of a unit, in a ball of radius 10 (0: 80)",
+           kMaxRadiusKnob}};
+}
+
+std::vector<GeneratorPreset> tanglePresets() {
+  // Fitted on `cpvs` closed (README, "Calibrated stand-ins"): more strands leave the size as it
+  // is (a map sees the ball's outer layer), a thinner tube doubles it; half the default radius
+  // of four settings tried.
+  return {{"hairball",
+           650,
+           1,
+           {40},
+           "Scandolo & Eisemann 2021 Table 1, Hairball, DAG: cpvs closed, 4K² to 16K²"}};
+}
+
+SceneFootprint tangleFootprint(const GeneratorKnobs& knobs) {
+  checkSize("tangle", knobs.size, kMinSize, kMaxSize);
+  checkStyleKnobs("tangle", knobs, tangleStyleKnobs());
+  const uint64_t size = knobs.size;
   // Per strand: kRings rings of kSides vertices and two cap centres; kSides quads between
   // successive rings and a fan of kSides triangles at each end.
   constexpr uint64_t kVertices = kRings * kSides + 2,
@@ -59,13 +80,15 @@ SceneFootprint tangleFootprint(uint32_t size) {
   return {size * kVertices, size * kTriangles, size * strandBytes};
 }
 
-Scene generateTangle(uint32_t size, uint64_t seed) {
-  checkSize("tangle", size, kMinSize, kMaxSize);
+Scene generateTangle(const GeneratorKnobs& knobs) {
+  checkSize("tangle", knobs.size, kMinSize, kMaxSize);
+  checkStyleKnobs("tangle", knobs, tangleStyleKnobs());
   Scene scene;
-  scene.name = generatedSceneName("tangle", {size, seed});
-  const std::vector<float> radii(kRings, kTubeRadius);
-  for (uint32_t s = 0; s < size; ++s) {
-    Rng rng(streamSeed(seed, s));
+  scene.name = generatedSceneName("tangle", knobs, tangleStyleKnobs());
+  const uint32_t radius = knobs.styleKnob(0);
+  const std::vector<float> radii(kRings, radius == 0 ? kTubeRadius : float(radius) / 1000.0f);
+  for (uint32_t s = 0; s < knobs.size; ++s) {
+    Rng rng(streamSeed(knobs.seed, s));
     Mesh strand;
     strand.name = fmt::format("strand_{:04}", s);
     strand.closed = true;

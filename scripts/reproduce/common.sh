@@ -88,7 +88,9 @@ capped() {
 # preset was fitted; the tables find scenes by generator, so they keep a folder of their own.
 case $stand_ins in
   full) out=results/reproduce; calibrated=() ;;
-  calibrated) out=results/reproduce/calibrated; calibrated=(city:full city:cityscape) ;;
+  calibrated)
+    out=results/reproduce/calibrated
+    calibrated=(city:full city:cityscape tangle:full tangle:hairball) ;; # pairs: stand-in, preset
   *) echo "$table: --stand-ins '$stand_ins' must be full or calibrated" >&2; exit 2 ;;
 esac
 # One records folder for every table: a cell two tables need is built once.
@@ -111,7 +113,12 @@ sweep() {
   [ "${sweep_part_size:-}" != whole ] || parts=()
   local args=("$@") i
   if [ ${#calibrated[@]} -gt 0 ]; then
-    for i in "${!args[@]}"; do args[i]=${args[i]//${calibrated[0]}/${calibrated[1]}}; done
+    local pair
+    for ((pair = 0; pair < ${#calibrated[@]}; pair += 2)); do
+      for i in "${!args[@]}"; do
+        args[i]=${args[i]//${calibrated[pair]}/${calibrated[pair + 1]}}
+      done
+    done
     set -- "${args[@]}"
   fi
   echo "shadowbench sweep ${parts[*]:+${parts[*]} }$*${sweep_args[*]:+ ${sweep_args[*]}}" | tee -a "$log"
