@@ -1,5 +1,5 @@
 // What the scenes tests share: a scratch folder for scene and model files, a small closed model,
-// and the message of an expected SceneError.
+// a generator by name, and the message of an expected SceneError.
 #pragma once
 
 #include <unistd.h>
@@ -62,6 +62,14 @@ f 3 7 8 4
 f 1 5 7 3
 f 2 4 8 6
 )";
+
+// The generator named `name`; fails the test if there is none.
+inline const sb::GeneratorInfo& generator(const std::string& name) {
+  for (const auto& g : sb::sceneGenerators())
+    if (g.name == name) return g;
+  FAIL("no generator " << name);
+  throw;
+}
 
 // The message of the SceneError that `open` throws; fails the test if it throws anything else.
 template <typename F>
