@@ -138,15 +138,14 @@ def kampe2015_table2(records, args):
         def ratio(o, n, r):
             return o[r] / n[r] if r in o and r in n else None
 
-        rows = [[heading(r),
-                 significant(new["masks"].get(r) and new["masks"][r] / MIB),
-                 significant(new["depth"].get(r) and new["depth"][r] / MIB),
-                 significant(old.get(r) and old[r] / MIB),
+        def mib(sizes, r):
+            return significant(sizes.get(r) and sizes[r] / MIB)
+
+        rows = [[heading(r), mib(new["masks"], r), mib(new["depth"], r), mib(old, r),
                  significant(ratio(old, new["masks"], r)),
                  significant(ratio(old, new["depth"], r)),
-                 significant(paper_new.get(r) and paper_new[r] / MIB),
-                 significant(paper_old.get(r) and paper_old[r] / MIB),
-                 significant(paper_ratio.get(r))] for r in columns]
+                 mib(paper_new, r), mib(paper_old, r), significant(paper_ratio.get(r))]
+                for r in columns]
         lines += [f"## {scene} closed (stands in for {paper_scene})", "",
                   markdown_table(["resolution", "new, masks (MiB)", "new, depth (MiB)",
                                   "old (MiB)", "ratio, masks", "ratio, depth",

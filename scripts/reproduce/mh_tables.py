@@ -301,12 +301,12 @@ def scandolo2021_table1(records, args):
                   markdown_table(["build"] + [heading(r) for r in columns], rows)]
         dag_mh, mmh, cpvs = (records.at_defaults(s, scene, mode)
                              for s in ("dag-mh", "mmh", "cpvs"))
-        for name, dag_cells in (("dag-mh", dag_mh), ("dag-mh skip level 0", skip0)):
+        dags = [("dag-mh", dag_mh)] + ([("dag-mh skip level 0", skip0)] if skip0 else [])
+        for name, dag_cells in dags:
             for other, cells in (("mmh", mmh), ("cpvs", cpvs)):
-                if dag_cells or name == "dag-mh":
-                    ratio_rows.append(row(f"{scene} {mode}: {name} / {other}", {
-                        r: ratio_of(mib(dag_cells[r]), mib(cells[r]), 100) for r in columns
-                        if r in dag_cells and r in cells}, columns))
+                ratio_rows.append(row(f"{scene} {mode}: {name} / {other}", {
+                    r: ratio_of(mib(dag_cells[r]), mib(cells[r]), 100) for r in columns
+                    if r in dag_cells and r in cells}, columns))
         for paper in papers:
             sizes = {m: paper_mib(DAGMH_TABLE1[paper][m], DAGMH_RESOLUTIONS)
                      for m in ("DAG", "MMH", "DAG-MH")}
