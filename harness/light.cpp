@@ -101,6 +101,19 @@ glm::dvec3 Light::toLightSpace(const glm::dvec3& world) const {
           depthOfViewZ(v.z)};
 }
 
+Light Light::window(glm::dvec2 corner, double size, double zNear, double zFar) const {
+  if (spec_.kind != LightKind::Directional)
+    throw std::invalid_argument("only a directional light has orthographic windows");
+  if (!(size > 0) || !(zFar > zNear))
+    throw std::invalid_argument(
+        fmt::format("light window of size {} and depth [{}, {}] is empty", size, zNear, zFar));
+  // view' = (view − (corner, zNear)) / (size, size, zFar − zNear), with view = (q − origin)·scale.
+  Light light = *this;
+  light.origin_ += glm::dvec3(corner.x, corner.y, zNear) / scale_;
+  light.scale_ /= glm::dvec3(size, size, zFar - zNear);
+  return light;
+}
+
 PrimaryRay Light::texelRay(uint32_t i, uint32_t j, uint32_t resolution) const {
   const double x = (i + 0.5) / resolution, y = (j + 0.5) / resolution;
   if (spec_.kind == LightKind::Directional)

@@ -38,6 +38,14 @@ class Light {
   // World → light space; for points outside a spot light's cone x, y leave [0, 1).
   glm::dvec3 toLightSpace(const glm::dvec3& world) const;
 
+  // Directional lights: the light whose light space is the box [corner, corner + size]² ×
+  // [zNear, zFar] of this one's (all in this light's light-space units), the orthographic frustum
+  // of a shadow-map cascade or tile. Geometry may lie outside it.
+  Light window(glm::dvec2 corner, double size, double zNear, double zFar) const;
+  // Directional lights: world units per light-space unit along x (= y) and along z.
+  double worldPerUnitWidth() const { return 1.0 / scale_.x; }
+  double worldPerUnitDepth() const { return 1.0 / scale_.z; }
+
   // The ray through the centre of texel (i, j) at resolution R, in view space.
   PrimaryRay texelRay(uint32_t i, uint32_t j, uint32_t resolution) const;
   // Light-space depth of a hit at parameter t along a texelRay.

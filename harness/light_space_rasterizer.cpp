@@ -43,6 +43,38 @@ inline int64_t ceilDiv(int64_t a, int64_t b) {
   return -floorDiv(-a, b);
 }
 
+// Sutherland–Hodgman: `polygon` clipped to [lo, hi]² in (x, y), z interpolated (linear in an
+// orthographic light space). The crossing of an edge is computed from its lexicographically
+// smaller end, so two triangles sharing an edge get bit-identical new vertices and stay
+// watertight for the closed-mode counter.
+void clipToSquare(std::vector<glm::dvec3>& polygon, double lo, double hi,
+                  std::vector<glm::dvec3>& scratch) {
+  auto lexLess = [](const glm::dvec3& a, const glm::dvec3& b) {
+    return a.x < b.x || (a.x == b.x && (a.y < b.y || (a.y == b.y && a.z < b.z)));
+  };
+  for (int axis = 0; axis < 2; ++axis)
+    for (const double bound : {lo, hi}) {
+      const double side = bound == lo ? 1.0 : -1.0;  // inside where side·(v − bound) ≥ 0
+      scratch.clear();
+      for (size_t k = 0; k < polygon.size(); ++k) {
+        const glm::dvec3& a = polygon[k];
+        const glm::dvec3& b = polygon[(k + 1) % polygon.size()];
+        const bool aIn = side * (a[axis] - bound) >= 0, bIn = side * (b[axis] - bound) >= 0;
+        if (aIn) scratch.push_back(a);
+        if (aIn != bIn) {
+          const glm::dvec3& from = lexLess(a, b) ? a : b;
+          const glm::dvec3& to = lexLess(a, b) ? b : a;
+          const double t = (bound - from[axis]) / (to[axis] - from[axis]);
+          glm::dvec3 crossing = from + t * (to - from);
+          crossing[axis] = bound;
+          scratch.push_back(crossing);
+        }
+      }
+      polygon.swap(scratch);
+      if (polygon.size() < 3) return polygon.clear();
+    }
+}
+
 }  // namespace
 
 LightSpaceRasterizer::LightSpaceRasterizer(const Scene& scene, const Light& light,
@@ -64,33 +96,52 @@ LightSpaceRasterizer::LightSpaceRasterizer(const Scene& scene, const Light& ligh
     last = int32_t(std::min<int64_t>(resolution - 1, hi < h ? -1 : (hi - h) / (2 * h)));
   };
 
+  auto addTriangle = [&](const glm::dvec3(&p)[3], bool closed, uint32_t mesh) {
+    FixedTriangle t{};
+    for (int k = 0; k < 3; ++k) {
+      t.x[k] = int32_t(std::llround(p[k].x * kFixedScale));
+      t.y[k] = int32_t(std::llround(p[k].y * kFixedScale));
+      t.z[k] = float(p[k].z);
+    }
+    const int64_t area = edge(t.x[0], t.y[0], t.x[1], t.y[1], t.x[2], t.y[2]);
+    if (area == 0) return;  // edge-on to the light: its neighbours cover its line
+    // Rays run along +z: a face whose normal cross(b − a, c − a) points against them (area <
+    // 0) is a front face, entered by the ray.
+    t.sign = closed ? (area < 0 ? 1 : -1) : 0;
+    t.mesh = mesh;
+    if (area < 0) std::swap(t.x[1], t.x[2]), std::swap(t.y[1], t.y[2]), std::swap(t.z[1], t.z[2]);
+    centresWithin(*std::min_element(t.x, t.x + 3), *std::max_element(t.x, t.x + 3), t.texelMin[0],
+                  t.texelMax[0]);
+    centresWithin(*std::min_element(t.y, t.y + 3), *std::max_element(t.y, t.y + 3), t.texelMin[1],
+                  t.texelMax[1]);
+    if (t.texelMin[0] > t.texelMax[0] || t.texelMin[1] > t.texelMax[1]) return;  // between centres
+    triangles_.push_back(t);
+  };
+
+  // A light window (Light::window) leaves geometry outside [0, 1)², beyond what fixed point can
+  // hold: such triangles are clipped to the map plus two texels, far from every texel centre.
+  const double margin = 2.0 / resolution;
+  std::vector<glm::dvec3> polygon, clipped;
   for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     std::vector<glm::dvec3> lightSpace(mesh.vertices.size());
     for (size_t v = 0; v < mesh.vertices.size(); ++v)
       lightSpace[v] = light.toView(glm::dvec3(mesh.vertices[v]));
     for (const glm::uvec3& index : mesh.triangles) {
-      FixedTriangle t{};
-      for (int k = 0; k < 3; ++k) {
-        const glm::dvec3& p = lightSpace[index[k]];
-        t.x[k] = int32_t(std::llround(p.x * kFixedScale));
-        t.y[k] = int32_t(std::llround(p.y * kFixedScale));
-        t.z[k] = float(p.z);
+      const glm::dvec3 p[3] = {lightSpace[index[0]], lightSpace[index[1]], lightSpace[index[2]]};
+      const glm::dvec2 lo =
+          glm::min(glm::dvec2(p[0]), glm::min(glm::dvec2(p[1]), glm::dvec2(p[2])));
+      const glm::dvec2 hi =
+          glm::max(glm::dvec2(p[0]), glm::max(glm::dvec2(p[1]), glm::dvec2(p[2])));
+      if (lo.x >= -margin && lo.y >= -margin && hi.x <= 1 + margin && hi.y <= 1 + margin) {
+        addTriangle(p, mesh.closed, m);
+        continue;
       }
-      const int64_t area = edge(t.x[0], t.y[0], t.x[1], t.y[1], t.x[2], t.y[2]);
-      if (area == 0) continue;  // edge-on to the light: its neighbours cover its line
-      // Rays run along +z: a face whose normal cross(b − a, c − a) points against them (area <
-      // 0) is a front face, entered by the ray.
-      t.sign = mesh.closed ? (area < 0 ? 1 : -1) : 0;
-      t.mesh = m;
-      if (area < 0) std::swap(t.x[1], t.x[2]), std::swap(t.y[1], t.y[2]), std::swap(t.z[1], t.z[2]);
-      centresWithin(*std::min_element(t.x, t.x + 3), *std::max_element(t.x, t.x + 3), t.texelMin[0],
-                    t.texelMax[0]);
-      centresWithin(*std::min_element(t.y, t.y + 3), *std::max_element(t.y, t.y + 3), t.texelMin[1],
-                    t.texelMax[1]);
-      if (t.texelMin[0] > t.texelMax[0] || t.texelMin[1] > t.texelMax[1])
-        continue;  // between centres
-      triangles_.push_back(t);
+      if (hi.x < -margin || hi.y < -margin || lo.x > 1 + margin || lo.y > 1 + margin) continue;
+      polygon.assign(p, p + 3);
+      clipToSquare(polygon, -margin, 1 + margin, clipped);
+      for (size_t k = 1; k + 1 < polygon.size(); ++k)
+        addTriangle({polygon[0], polygon[k], polygon[k + 1]}, mesh.closed, m);
     }
   }
 

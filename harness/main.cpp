@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
   sb::addManyLightsCommand(app);
   sb::cli::addDistantFiltersCommand(app);
   sb::cli::addSoakCommand(app);
+  sb::cli::addViewsCommand(app);
 
   try {
     try {

@@ -20,5 +20,6 @@ void addSweepCommand(CLI::App& app);
 void addTableCommand(CLI::App& app);
 void addDistantFiltersCommand(CLI::App& app);
 void addSoakCommand(CLI::App& app);
+void addViewsCommand(CLI::App& app);  // also `path`
 
 }  // namespace sb::cli
