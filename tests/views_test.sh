@@ -50,10 +50,10 @@ bad() {  # bad NAME PYTHON-EDIT: a copy of the path edited by PYTHON-EDIT (p is 
 import json, sys
 p = json.load(open(sys.argv[1]))
 exec(sys.argv[3])
-open(sys.argv[2], "w").write(json.dumps(p).replace('"NAN"', 'NaN'))
+open(sys.argv[2], "w").write(json.dumps(p))
 PY
 }
-bad nan 'p["frames"][1]["eye"][2] = "NAN"'
+bad nan 'p["frames"][1]["eye"][2] = "NaN"'
 refused "frames[1].eye" "$sb" views --scene city --path "$work/nan.json" --out "$work/x"
 bad empty 'p["frames"] = []'
 refused "frames" "$sb" views --scene city --path "$work/empty.json" --out "$work/x"
