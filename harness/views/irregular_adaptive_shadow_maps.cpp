@@ -94,8 +94,9 @@ void IrregularAdaptiveShadowMaps::prepare(const Camera& camera, const GroundTrut
     side_ = coveringSide(surface, eye_, ahead) * settings_.extentFraction;
     corner_ = eye_ + ahead * (side_ / 2) - side_ / 2;
   }
-  // §3.4: the first frame has no previous frame; it is ranked by its own analysis.
-  if (!haveImportance_) accumulateImportance(surface);
+  // §3.4: the first frame has no previous frame; it is ranked by its own analysis, as every frame
+  // is with `same-frame` (the ranking a perfectly coherent camera would get).
+  if (!haveImportance_ || settings_.sameFrameImportance) accumulateImportance(surface);
   std::vector<uint32_t> byRank(count);
   std::iota(byRank.begin(), byRank.end(), 0u);
   std::stable_sort(byRank.begin(), byRank.end(),
@@ -192,6 +193,10 @@ ViewTechniqueRow iasmRow() {
                           "frustum side in percent of the least square ahead of the camera that "
                           "holds every visible point",
                           100, 1, 1000),
+       ParamSpec::choice("importance",
+                         "tiles ranked by the previous frame's importance (§3.3), or by this "
+                         "frame's own",
+                         "previous-frame", {"previous-frame", "same-frame"}),
        ParamSpec::choice("placement", "the frustum ahead of the camera (§3.2), or the whole scene",
                          "ahead", {"ahead", "scene"}),
        ParamSpec::integer("constant-bias", "depth bias in hundredths of a texel", 50, 0, 10000),
@@ -209,6 +214,7 @@ ViewTechniqueRow iasmRow() {
         s.kFraction = values.integer("k") / 100.0;
         s.extentFraction = values.integer("extent") / 100.0;
         s.placeOverScene = values.choice("placement") == "scene";
+        s.sameFrameImportance = values.choice("importance") == "same-frame";
         s.bias.constantTexels = values.integer("constant-bias") / 100.0;
         s.bias.slopeTexels = values.integer("slope-bias") / 100.0;
         return std::make_unique<IrregularAdaptiveShadowMaps>(scene, light, s);

@@ -29,6 +29,7 @@ struct IasmSettings {
   double m = 4, kFraction = 0.5;  // k as a fraction of the frustum's side
   double extentFraction = 1.0;  // the square's side as a fraction of the least that holds the frame
   bool placeOverScene = false;  // the whole light map instead (one tile: a plain shadow map)
+  bool sameFrameImportance = false;  // rank by this frame's importance, not the previous one's
   DepthBias bias;
 };
 
