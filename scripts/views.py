@@ -84,12 +84,13 @@ def technique_label(record):
 def group_by_path(files, program):
     """{path name: [(record, file)]} of `files`, the newest record per (path, technique), each
     sorted by memory; every record left out is named."""
-    index = {id(record): path for record, path in zip(files.records, files.paths)}
+    # newest_per_cell answers with the records themselves: their files by identity.
+    file_of = {id(record): path for record, path in zip(files.records, files.paths)}
     newest = newest_per_cell(files, lambda r: (r["path"]["name"], technique_label(r)),
                              lambda cell: f"path {cell[0]}, {cell[1]}", program)
     groups = {}
     for (name, _), record in newest.items():
-        groups.setdefault(name, []).append((record, index[id(record)]))
+        groups.setdefault(name, []).append((record, file_of[id(record)]))
     for entries in groups.values():
         entries.sort(key=lambda entry: (entry[0]["totals"]["memory_bytes"],
                                         technique_label(entry[0])))

@@ -12,6 +12,7 @@ from html.parser import HTMLParser
 from pathlib import Path
 
 import support
+from scheme_registry import shadowbench_binary
 
 RECORDS = support.FIXTURES / "report-records"  # build records, view records, a paper twin
 CHROMIUM = shutil.which("chromium")
@@ -117,6 +118,16 @@ class Report(ReportCase):
         self.assertEqual(broken_links(index), [])
         # Per frame the truth, and each of the three techniques' mask and error, copied.
         self.assertEqual(len(list((index.parent / "images").rglob("*.png"))), 2 * 7)
+
+    def test_the_harness_tables_from_the_built_binary(self):
+        binary = shadowbench_binary()
+        if not binary.is_file():
+            self.skipTest(f"{binary} is not built: the page's wiring is tested with a stand-in")
+        self.binary = binary
+        done, index = self.report(self.part_of_fixture("builds"))
+        self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertIn("Size — city:size=36,seed=1, light 0, closed",
+                      index.read_text(encoding="utf-8"))
 
     def test_build_records_alone(self):
         done, index = self.report(self.part_of_fixture("builds"))
