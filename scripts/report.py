@@ -266,7 +266,7 @@ def write_build_plots(page, plt, builds, out_dir):
 
 def copy_image(records_dir, record_file, relative, out_dir):
     """The image `relative` (to its record's folder) copied into OUT/images at its place under
-    the records folder, so that frames shared by techniques (the truth) are copied once; the
+    the records folder, so that an image the techniques share (the truth) has one copy; the
     copy's path relative to OUT, or None (named on stderr) if the image is missing."""
     source = (Path(record_file).parent / relative).resolve()
     if not source.is_file():
