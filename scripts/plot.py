@@ -70,11 +70,12 @@ def describe_cell(cell):
     return f"{scene}, light {light}, {mode}, {label}, {resolution_label(resolution)}²"
 
 
-def group_records(files):
+def group_records(files, program="plot.py"):
     """{(scene, light, mode): {variant label: {resolution: record}}} of `files`
-    (records.RecordFiles), the newest record per cell; each one left out is named."""
+    (records.RecordFiles), the newest record per cell; each one left out is named, by
+    `program`."""
     groups = {}
-    newest = newest_per_cell(files, cell_of, describe_cell, "plot.py")
+    newest = newest_per_cell(files, cell_of, describe_cell, program)
     for (scene, light, mode, label, resolution), record in newest.items():
         groups.setdefault((scene, light, mode), {}).setdefault(label, {})[resolution] = record
     return groups

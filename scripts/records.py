@@ -19,6 +19,10 @@ except ImportError:  # said when records are to be read (record_validator), nami
     jsonschema = None
 
 RECORD_FORMAT = "shadowbench-record/1"
+# A record of a view (scripts/views.py): another kind of record in the same folders, which the
+# build readers pass over without naming it, as it is neither broken nor theirs.
+VIEW_RECORD_FORMAT = "shadowbench-view-record"
+VIEW_RECORD = "a view record"
 # Where a sweep moves the records of older versions of a cell (harness/record.h,
 # kSupersededFolder): kept, never read as records.
 SUPERSEDED_FOLDER = "superseded"
@@ -95,7 +99,8 @@ def schema_problem(validator, record):
 
 
 def read_record(path, validator):
-    """(record, None) if the file at `path` counts, else (None, why not)."""
+    """(record, None) if the file at `path` counts, else (None, why not): VIEW_RECORD for a
+    view record."""
     try:
         data = Path(path).read_bytes()
     except OSError as error:
@@ -106,6 +111,8 @@ def read_record(path, validator):
         record = json.loads(data)
     except ValueError as error:  # a truncated file says where its text ends
         return None, f"not JSON ({error})"
+    if isinstance(record, dict) and record.get("format") == VIEW_RECORD_FORMAT:
+        return None, VIEW_RECORD
     problem = completeness_problem(record) or schema_problem(validator, record)
     return (None, problem) if problem else (record, None)
 
@@ -128,12 +135,15 @@ class RecordFiles(NamedTuple):
 
 def read_records(folder, program, schema=None):
     """The RecordFiles of `folder` (the files of record_paths); each file that does not count is
-    also reported on standard error as "PROGRAM: skipped PATH: WHY". `schema` as for
-    record_validator; raises SchemaUnavailable before reading any file."""
+    also reported on standard error as "PROGRAM: skipped PATH: WHY", but for view records, which
+    are left out unnamed. `schema` as for record_validator; raises SchemaUnavailable before
+    reading any file."""
     validator = record_validator(schema)
     files = RecordFiles([], [], [])
     for path in record_paths(folder):
         record, problem = read_record(path, validator)
+        if problem == VIEW_RECORD:
+            continue
         if record is None:
             files.skipped.append((path, problem))
             print(f"{program}: skipped {path}: {problem}", file=sys.stderr)

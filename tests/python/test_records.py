@@ -88,6 +88,14 @@ class ReadRecords(support.TemporaryFolder):
         records, skipped, said = self.read()
         self.assertEqual((len(records), skipped, said), (2, [], ""))
 
+    def test_view_records_are_left_to_their_reader_unnamed(self):
+        """A view record (scripts/views.py) shares the folders; it is not a broken record."""
+        self.write("a/good.json", json.dumps(self.good()))
+        view = support.FIXTURES / "report-records" / "views" / "city-walk_csm-1024.json"
+        self.write("a/view.json", view.read_text(encoding="utf-8"))
+        records, skipped, said = self.read()
+        self.assertEqual((len(records), skipped, said), (1, [], ""))
+
     def test_a_missing_schema_stops_before_any_file_is_read(self):
         self.write("1.json", json.dumps(self.good()))
         missing = self.folder / "no-such.schema.json"
