@@ -23,7 +23,7 @@ import statistics
 import sys
 from pathlib import Path
 
-VIEW_FORMAT = "shadowbench-view-record"
+from views import TABLE_HEADER, group_by_path, read_view_records, table_row
 
 # Alecu 2014, Table 4.1 (GTX 660 Ti, ms): readback, shadows, scene, frame.
 ALECU_TABLE_4_1 = [
@@ -38,36 +38,13 @@ ALECU_TABLE_4_1 = [
 ]
 
 
-def read_view_records(folder):
-    """The view records under `folder` (recursively), by path name; other JSON files are skipped,
-    and a file that claims the format but cannot be read is named on stderr."""
-    by_path = {}
-    for file in sorted(Path(folder).rglob("*.json")):
-        try:
-            record = json.loads(file.read_text())
-        except (OSError, ValueError) as error:
-            print(f"views_tables: {file}: not JSON ({error}); left out", file=sys.stderr)
-            continue
-        if not isinstance(record, dict) or record.get("format") != VIEW_FORMAT:
-            continue
-        by_path.setdefault(record["path"]["name"], []).append(record)
-    return by_path
-
-
 def ms(value):
     return "–" if value is None else f"{value:.1f}"
 
 
 def technique_table(records):
-    lines = ["| technique | error % | false lit | false shadow | boundary error % | memory MiB | "
-             "build ms | shade ms |", "|---|---|---|---|---|---|---|---|"]
-    for r in sorted(records, key=lambda r: (r["technique"]["kind"], r["totals"]["memory_bytes"])):
-        t = r["totals"]
-        lines.append(f"| {r['technique']['label']} | {100 * t['error_rate']:.3f} | {t['false_lit']} | "
-                     f"{t['false_shadow']} | {100 * t['boundary_error_rate']:.2f} | "
-                     f"{t['memory_bytes'] / 2**20:.2f} | {t['build_ms_median']:.1f} | "
-                     f"{t['shade_ms_median']:.1f} |")
-    return lines
+    lines = ["| " + " | ".join(TABLE_HEADER) + " |", "|" + "---|" * len(TABLE_HEADER)]
+    return lines + ["| " + " | ".join(table_row(r)) + " |" for r in records]
 
 
 def interpolate(points, x, xi, yi):
@@ -184,11 +161,12 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("records", type=Path)
     args = parser.parse_args()
-    by_path = read_view_records(args.records)
-    if not by_path:
-        sys.exit(f"views_tables: no view records under {args.records}")
+    groups = group_by_path(read_view_records(args.records, "views_tables.py"), "views_tables.py")
+    if not groups:
+        sys.exit(f"views_tables.py: no view records under {args.records}")
     out = []
-    for name, records in sorted(by_path.items()):
+    for name, entries in sorted(groups.items()):
+        records = [record for record, _ in entries]
         first = records[0]
         out += [f"## {name}: {first['scene']['spec']}, {first['path']['frames']} frames at "
                 f"{first['path']['width']}×{first['path']['height']}", ""]

@@ -22,7 +22,8 @@ def view_record(label, kind, memory, error, name="csm", params=None, structure=N
             "totals": {"covered": 100, "false_lit": 1, "false_shadow": 2, "boundary": 10,
                        "boundary_false_lit": 1, "boundary_false_shadow": 1, "error_rate": error,
                        "boundary_error_rate": 0.2, "memory_bytes": memory, "build_ms_median": 3.0,
-                       "shade_ms_median": 2.0}}
+                       "shade_ms_median": 2.0},
+            "frames": [], "created": "2026-12-04T19:00:00Z"}
 
 
 class Interpolation(support.TemporaryFolder):
