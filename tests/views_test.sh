@@ -33,8 +33,8 @@ PY
   --out "$work/views" > "$work/views.txt"
 records=("$work/views"/*.json)
 [ ${#records[@]} -eq 3 ] || fail "expected 3 view records, got ${#records[@]}"
-grep -q "| csm (" "$work/views.txt" && grep -q "| iasm (" "$work/views.txt" &&
-  grep -q "| mh (" "$work/views.txt" || fail "summary lacks a technique: $(cat "$work/views.txt")"
+grep -q "^| csm |" "$work/views.txt" && grep -q "^| iasm |" "$work/views.txt" &&
+  grep -q "^| mh 256² closed |" "$work/views.txt" || fail "summary lacks a technique: $(cat "$work/views.txt")"
 for f in 000 001; do
   [ -s "$work/views/images/truth/truth-$f.png" ] && [ -s "$work/views/images/truth/truth-$f.exr" ] ||
     fail "truth picture of frame $f missing"

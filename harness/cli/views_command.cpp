@@ -7,6 +7,7 @@
 #include "harness/cli/commands.h"
 #include "harness/cli/options.h"
 #include "harness/progress.h"
+#include "harness/resolution.h"
 #include "harness/views/view_run.h"
 #include "schemes/interface/atomic_file.h"
 #include "schemes/interface/serial.h"
@@ -112,17 +113,16 @@ int runViewsCommand(const ViewsCommandOptions& o) {
           "structure '{}' was built from another scene (hash {}), not from '{}' (hash {})", file,
           header.sceneHash, o.map.scene, scene.hash()));
     const uint64_t bytes = totalBytes(decoders.back()->size());
-    nlohmann::json schemeParams(header.params);
-    nlohmann::json labelled = schemeParams;
-    labelled["mode"] = toString(header.map.mode);
-    labelled["resolution"] = header.map.resolution;
-    entries.push_back({header.scheme,
-                       "precomputed",
-                       viewLabel(header.scheme, labelled),
+    const nlohmann::json schemeParams(header.params);
+    const std::string mode(toString(header.map.mode));
+    const std::string suffix = fmt::format("{}² {}", resolutionLabel(header.map.resolution), mode);
+    entries.push_back({header.scheme, "precomputed",
+                       viewLabel(header.scheme, header.params, findScheme(header.scheme).params,
+                                 suffix),
                        schemeParams,
                        {{"scheme", header.scheme},
                         {"params", schemeParams},
-                        {"mode", toString(header.map.mode)},
+                        {"mode", mode},
                         {"resolution", header.map.resolution},
                         {"file", file}},
                        makeStructureTechnique(light, *decoders.back(), header.map.resolution, bytes,
@@ -131,7 +131,8 @@ int runViewsCommand(const ViewsCommandOptions& o) {
   for (size_t t = 0; t < o.techniques.size(); ++t) {
     const ViewTechniqueRow& row = findViewTechnique(o.techniques[t]);
     const nlohmann::json text(values[t].text());
-    entries.push_back({row.name, "view-dependent", viewLabel(row.name, text), text, nullptr,
+    entries.push_back({row.name, "view-dependent", viewLabel(row.name, values[t].text(), row.params),
+                       text, nullptr,
                        row.make(scene, light, values[t])});
   }
   for (size_t a = 0; a < entries.size(); ++a)

@@ -54,12 +54,14 @@ std::string writePicture(const fs::path& out, const fs::path& relative, const Rg
 
 }  // namespace
 
-std::string viewLabel(const std::string& name, const nlohmann::json& params) {
-  std::string text;
-  for (const auto& [key, value] : params.items())
-    text += fmt::format("{}{}={}", text.empty() ? "" : ", ", key,
-                        value.is_string() ? value.get<std::string>() : value.dump());
-  return text.empty() ? name : fmt::format("{} ({})", name, text);
+std::string viewLabel(const std::string& name, const Params& params,
+                      const std::vector<ParamSpec>& specs, const std::string& suffix) {
+  std::string changed;
+  for (const ParamSpec& spec : specs)
+    if (const auto it = params.find(spec.name); it != params.end() && it->second != spec.defaultValue)
+      changed += fmt::format("{}{}={}", changed.empty() ? "" : ", ", spec.name, it->second);
+  std::string label = suffix.empty() ? name : name + " " + suffix;
+  return changed.empty() ? label : fmt::format("{} ({})", label, changed);
 }
 
 std::string viewSlug(const std::string& label) {

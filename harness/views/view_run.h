@@ -54,9 +54,11 @@ std::vector<nlohmann::json> runViews(const ViewScene& scene, const CameraPath& p
                                      std::vector<ViewEntry>& entries, const ViewRunOptions& options,
                                      const std::function<void(uint32_t)>& frameDone = {});
 
-// "csm (cascades=3, lambda=50, …)": a label that names the technique and its parameters and is
-// safe as a file name once slugged (viewSlug).
-std::string viewLabel(const std::string& name, const nlohmann::json& params);
+// "iasm (importance=same-frame)": the technique and the parameters that differ from its
+// registry defaults (`specs`), then `suffix` ("16K² closed" for a structure); safe as a file
+// name once slugged (viewSlug). The record keeps every parameter.
+std::string viewLabel(const std::string& name, const Params& params,
+                      const std::vector<ParamSpec>& specs, const std::string& suffix = "");
 std::string viewSlug(const std::string& label);
 
 }  // namespace sb
