@@ -43,6 +43,8 @@ done
 /usr/bin/python3 "$scripts/views_tables.py" "$work/views" > "$work/tables.md"
 grep -q "Stage costs beside Alecu 2014 Table 4.1" "$work/tables.md" || fail "tables: $(cat "$work/tables.md")"
 grep -q "| mh | closed | 256 |" "$work/tables.md" || fail "no CSM comparison row for mh"
+/usr/bin/python3 "$scripts/plot_views.py" "$work/views" --out "$work/plots" > /dev/null
+[ -s "$work/plots/error-memory_city-walk.png" ] || fail "no error-against-memory plot: $(ls "$work/plots")"
 
 # Bad input, refused before the first frame.
 bad() {  # bad NAME PYTHON-EDIT: a copy of the path edited by PYTHON-EDIT (p is the path)
