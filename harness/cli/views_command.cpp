@@ -116,23 +116,24 @@ int runViewsCommand(const ViewsCommandOptions& o) {
     const nlohmann::json schemeParams(header.params);
     const std::string mode(toString(header.map.mode));
     const std::string suffix = fmt::format("{}² {}", resolutionLabel(header.map.resolution), mode);
-    entries.push_back({header.scheme, "precomputed",
-                       viewLabel(header.scheme, header.params, findScheme(header.scheme).params,
-                                 suffix),
-                       schemeParams,
-                       {{"scheme", header.scheme},
-                        {"params", schemeParams},
-                        {"mode", mode},
-                        {"resolution", header.map.resolution},
-                        {"file", file}},
-                       makeStructureTechnique(light, *decoders.back(), header.map.resolution, bytes,
-                                              o.filter, o.offsetTexels)});
+    entries.push_back(
+        {header.scheme,
+         "precomputed",
+         viewLabel(header.scheme, header.params, findScheme(header.scheme).params, suffix),
+         schemeParams,
+         {{"scheme", header.scheme},
+          {"params", schemeParams},
+          {"mode", mode},
+          {"resolution", header.map.resolution},
+          {"file", file}},
+         makeStructureTechnique(light, *decoders.back(), header.map.resolution, bytes, o.filter,
+                                o.offsetTexels)});
   }
   for (size_t t = 0; t < o.techniques.size(); ++t) {
     const ViewTechniqueRow& row = findViewTechnique(o.techniques[t]);
     const nlohmann::json text(values[t].text());
-    entries.push_back({row.name, "view-dependent", viewLabel(row.name, values[t].text(), row.params),
-                       text, nullptr,
+    entries.push_back({row.name, "view-dependent",
+                       viewLabel(row.name, values[t].text(), row.params), text, nullptr,
                        row.make(scene, light, values[t])});
   }
   for (size_t a = 0; a < entries.size(); ++a)

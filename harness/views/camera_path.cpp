@@ -24,18 +24,6 @@ constexpr std::string_view kFormat = "shadowbench-camera-path";
 constexpr int kVersion = 1;
 constexpr double kMaxFovYDegrees = 179;
 
-// The camera's right-handed frame: forward toward the target, up as close to `Camera::up` as is
-// perpendicular to forward.
-struct CameraBasis {
-  glm::dvec3 forward, right, up;
-};
-
-CameraBasis basisOf(const Camera& camera) {
-  const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
-  const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
-  return {forward, right, glm::cross(right, forward)};
-}
-
 [[noreturn]] void fail(std::string_view source, std::string_view field, std::string_view problem) {
   throw PathError(fmt::format("{}: {}: {}", source, field, problem));
 }
@@ -297,6 +285,12 @@ std::vector<Camera> orbit(const Scene& scene, uint32_t frames) {
 }
 
 }  // namespace
+
+CameraBasis basisOf(const Camera& camera) {
+  const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
+  const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
+  return {forward, right, glm::cross(right, forward)};
+}
 
 CameraRay pixelRay(const Camera& camera, uint32_t width, uint32_t height, uint32_t x, uint32_t y) {
   const CameraBasis basis = basisOf(camera);

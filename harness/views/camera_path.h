@@ -45,6 +45,13 @@ class PathError : public std::runtime_error {
 // The largest frame side a path may ask for.
 inline constexpr uint32_t kMaxFrameSide = 16384;
 
+// The camera's right-handed frame: forward toward the target, up as close to `Camera::up` as is
+// perpendicular to forward.
+struct CameraBasis {
+  glm::dvec3 forward, right, up;
+};
+CameraBasis basisOf(const Camera& camera);
+
 // Primary ray through the centre of pixel (x, y); y = 0 is the top row. direction is unit.
 struct CameraRay {
   glm::dvec3 origin, direction;

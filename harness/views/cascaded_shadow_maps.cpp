@@ -16,13 +16,11 @@ namespace {
 // The four corners of the view frustum's cross-section at view depth w (distance along the
 // forward axis).
 std::array<glm::dvec3, 4> crossSection(const Camera& camera, double aspect, double w) {
-  const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
-  const glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
-  const glm::dvec3 up = glm::cross(right, forward);
+  const CameraBasis b = basisOf(camera);
   const double h = std::tan(glm::radians(camera.fovYDegrees) / 2) * w, x = h * aspect;
-  const glm::dvec3 centre = camera.eye + w * forward;
-  return {centre - x * right - h * up, centre + x * right - h * up, centre - x * right + h * up,
-          centre + x * right + h * up};
+  const glm::dvec3 centre = camera.eye + w * b.forward;
+  return {centre - x * b.right - h * b.up, centre + x * b.right - h * b.up,
+          centre - x * b.right + h * b.up, centre + x * b.right + h * b.up};
 }
 
 }  // namespace

@@ -58,7 +58,8 @@ std::string viewLabel(const std::string& name, const Params& params,
                       const std::vector<ParamSpec>& specs, const std::string& suffix) {
   std::string changed;
   for (const ParamSpec& spec : specs)
-    if (const auto it = params.find(spec.name); it != params.end() && it->second != spec.defaultValue)
+    if (const auto it = params.find(spec.name);
+        it != params.end() && it->second != spec.defaultValue)
       changed += fmt::format("{}{}={}", changed.empty() ? "" : ", ", spec.name, it->second);
   std::string label = suffix.empty() ? name : name + " " + suffix;
   return changed.empty() ? label : fmt::format("{} ({})", label, changed);
