@@ -23,6 +23,9 @@ import statistics
 import sys
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent / "reproduce"))  # table_format
+
+from table_format import markdown_table
 from views import TABLE_HEADER, group_by_path, read_view_records, table_row
 
 # Alecu 2014, Table 4.1 (GTX 660 Ti, ms): readback, shadows, scene, frame.
@@ -43,8 +46,7 @@ def ms(value):
 
 
 def technique_table(records):
-    lines = ["| " + " | ".join(TABLE_HEADER) + " |", "|" + "---|" * len(TABLE_HEADER)]
-    return lines + ["| " + " | ".join(table_row(r)) + " |" for r in records]
+    return markdown_table(TABLE_HEADER, [table_row(r) for r in records]).splitlines()
 
 
 def interpolate(points, x, xi, yi):
@@ -89,18 +91,19 @@ def csm_questions(records):
         curves.setdefault(key, (s["scheme"], s["mode"], []))[2].append(
             (r["totals"]["memory_bytes"], r["totals"]["error_rate"], s["resolution"]))
     lines = [f"Against {csm['technique']['label']}: error {100 * error:.3f} %, "
-             f"memory {memory / 2**20:.2f} MiB.", "",
-             "| scheme | mode | resolutions | memory matching CSM's error (MiB) | error at CSM's memory % |",
-             "|---|---|---|---|---|"]
+             f"memory {memory / 2**20:.2f} MiB.", ""]
+    rows = []
     for scheme, mode, points in sorted(curves.values()):
         points.sort()
         match = crossing_memory(points, error)
         at = interpolate(points, memory, 0, 1)
         res = ", ".join(f"{p[2] // 1024}K" if p[2] >= 1024 else str(p[2]) for p in points)
-        lines.append(f"| {scheme} | {mode} | {res} | "
-                     f"{'not within these' if match is None else f'{match / 2**20:.2f}'} | "
-                     f"{'outside these' if at is None else f'{100 * at:.3f}'} |")
-    return lines
+        rows.append([scheme, mode, res,
+                     "not within these" if match is None else f"{match / 2**20:.2f}",
+                     "outside these" if at is None else f"{100 * at:.3f}"])
+    header = ["scheme", "mode", "resolutions", "memory matching CSM's error (MiB)",
+              "error at CSM's memory %"]
+    return lines + markdown_table(header, rows, label_columns=3).splitlines()
 
 
 def junction_distance(layout, grid):
@@ -120,8 +123,7 @@ def corner_table(records):
     csm = thesis_csm(records)
     if csm is None:
         return []
-    lines = ["| IASM | camera within 0.75 tile of a four-tile junction | frames | elsewhere | frames |",
-             "|---|---|---|---|---|"]
+    rows = []
     for r in records:
         if r["technique"]["name"] != "iasm" or r["technique"]["params"].get("placement") == "scene":
             continue
@@ -137,22 +139,23 @@ def corner_table(records):
 
         def cell(ratios):
             return f"{statistics.median(ratios):.2f}× CSM" if ratios else "–"
-        lines.append(f"| {r['technique']['label']} | {cell(near)} | {len(near)} | {cell(far)} | "
-                     f"{len(far)} |")
-    return lines if len(lines) > 2 else []
+        rows.append([r["technique"]["label"], cell(near), str(len(near)), cell(far), str(len(far))])
+    header = ["IASM", "camera within 0.75 tile of a four-tile junction", "frames", "elsewhere",
+              "frames"]
+    return markdown_table(header, rows).splitlines() if rows else []
 
 
 def stage_table(records):
-    lines = ["| | Readback | Shadows | Scene | Frame |", "|---|---|---|---|---|"]
-    for name, readback, shadows, scene, frame in ALECU_TABLE_4_1:
-        lines.append(f"| paper: {name} | {ms(readback)} | {ms(shadows)} | {ms(scene)} | {ms(frame)} |")
+    rows = [[f"paper: {name}", ms(readback), ms(shadows), ms(scene), ms(frame)]
+            for name, readback, shadows, scene, frame in ALECU_TABLE_4_1]
     for r in records:
         if r["technique"]["kind"] != "view-dependent":
             continue
         t = r["totals"]
         build, shade = t["build_ms_median"], t["shade_ms_median"]
-        lines.append(f"| ours (CPU): {r['technique']['label']} | – | {build:.1f} | {shade:.1f} | "
-                     f"{build + shade:.1f} |")
+        rows.append([f"ours (CPU): {r['technique']['label']}", "–", ms(build), ms(shade),
+                     ms(build + shade)])
+    lines = markdown_table(["", "Readback", "Shadows", "Scene", "Frame"], rows).splitlines()
     lines += ["", "Ours: median per frame on this machine's CPU; Shadows = rendering the cascades or "
               "tiles with the light-space rasteriser, Scene = the shadow lookups of every pixel "
               "(no shading), Readback = none (the importance stays in memory)."]
