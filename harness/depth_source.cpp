@@ -15,6 +15,7 @@
 #include <tbb/task_arena.h>
 
 #include "harness/crossings.h"
+#include "harness/embree_scene.h"
 #include "harness/light_space_rasterizer.h"
 #include "harness/resolution.h"
 #include "schemes/interface/lightspace.h"
@@ -55,25 +56,16 @@ void gatherCrossings(const RTCFilterFunctionNArguments* args) {
 }  // namespace
 
 struct DepthSource::Embree {
-  RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
-  std::vector<int8_t> closedByGeometry;
-
-  ~Embree() {
-    if (scene) rtcReleaseScene(scene);
-    if (device) rtcReleaseDevice(device);
+  Embree(const Scene& scene, const Light& light)
+      : rays(
+            scene, [&](const glm::vec3& v) { return glm::vec3(light.toView(glm::dvec3(v))); },
+            RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION, RTC_BUILD_QUALITY_HIGH) {
+    for (const uint32_t mesh : rays.meshOfGeometry())
+      closedByGeometry.push_back(scene.meshes[mesh].closed);
   }
+  EmbreeScene rays;
+  std::vector<int8_t> closedByGeometry;
 };
-
-namespace {
-
-void throwOnEmbreeError(RTCDevice device, const char* what) {
-  const RTCError error = rtcGetDeviceError(device);
-  if (error != RTC_ERROR_NONE)
-    throw std::runtime_error(fmt::format("Embree failed while {} (error {})", what, int(error)));
-}
-
-}  // namespace
 
 std::string_view toString(DepthMethod method) {
   return method == DepthMethod::Rasterize ? "rasterize" : "raycast";
@@ -81,39 +73,11 @@ std::string_view toString(DepthMethod method) {
 
 DepthSource::DepthSource(const Scene& scene, const Light& light, DepthMode mode,
                          uint32_t resolution, DepthMethod method)
-    : embree_(std::make_unique<Embree>()), light_(light), mode_(mode), resolution_(resolution) {
+    : light_(light), mode_(mode), resolution_(resolution) {
   if (!validResolution(resolution))
     throw std::invalid_argument(
         fmt::format("resolution {} must be a power of two in [8, 2^20]", resolution));
-  embree_->device = rtcNewDevice(nullptr);
-  if (!embree_->device) throw std::runtime_error("Embree: cannot create a device");
-  embree_->scene = rtcNewScene(embree_->device);
-  // Robust traversal closes the cracks between triangles sharing an edge, which the closed
-  // mode's front/back counter depends on.
-  rtcSetSceneFlags(embree_->scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
-  rtcSetSceneBuildQuality(embree_->scene, RTC_BUILD_QUALITY_HIGH);
-  for (const Mesh& mesh : scene.meshes) {
-    if (mesh.triangles.empty()) continue;
-    RTCGeometry geometry = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(
-        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                3 * sizeof(float), mesh.vertices.size()));
-    for (size_t v = 0; v < mesh.vertices.size(); ++v) {
-      const glm::vec3 p(light.toView(glm::dvec3(mesh.vertices[v])));
-      vertices[3 * v + 0] = p.x, vertices[3 * v + 1] = p.y, vertices[3 * v + 2] = p.z;
-    }
-    auto* indices = static_cast<uint32_t*>(
-        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                3 * sizeof(uint32_t), mesh.triangles.size()));
-    std::copy_n(&mesh.triangles[0].x, 3 * mesh.triangles.size(), indices);
-    rtcCommitGeometry(geometry);
-    const unsigned id = rtcAttachGeometry(embree_->scene, geometry);
-    rtcReleaseGeometry(geometry);
-    embree_->closedByGeometry.resize(std::max<size_t>(embree_->closedByGeometry.size(), id + 1));
-    embree_->closedByGeometry[id] = mesh.closed;
-  }
-  rtcCommitScene(embree_->scene);
-  throwOnEmbreeError(embree_->device, "building the scene");
+  embree_ = std::make_unique<Embree>(scene, light);
   if (method == DepthMethod::Rasterize && light.kind() == LightKind::Directional)
     rasterizer_ = std::make_unique<LightSpaceRasterizer>(scene, light, resolution);
 }
@@ -155,7 +119,7 @@ DepthSource::Packet DepthSource::tracePacket(uint32_t i0, uint32_t j0) const {
   context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   if (mode_ == DepthMode::Open) {
     // The first hit is all an open map needs: plain closest-hit traversal.
-    rtcIntersect16(valid, embree_->scene, &context.embree, &rays);
+    rtcIntersect16(valid, embree_->rays.scene(), &context.embree, &rays);
     for (uint32_t lane = 0; lane < kPacketSize; ++lane) {
       const bool hit = rays.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID;
       const float lo = hit ? light_.depthOfHit(rays.ray.tfar[lane]) : 1.0f;
@@ -170,7 +134,7 @@ DepthSource::Packet DepthSource::tracePacket(uint32_t i0, uint32_t j0) const {
   context.light = &light_;
   context.closedByGeometry = embree_->closedByGeometry.data();
   context.lists = lists;
-  rtcIntersect16(valid, embree_->scene, &context.embree, &rays);
+  rtcIntersect16(valid, embree_->rays.scene(), &context.embree, &rays);
   uint64_t fallbacks = 0;
   for (uint32_t lane = 0; lane < kPacketSize; ++lane) {
     const ResolvedInterval resolved = resolveCrossings(lists[lane], mode_);
@@ -192,7 +156,7 @@ DepthSource::Hit DepthSource::intersect(const glm::vec3& origin, const glm::vec3
   ray.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  rtcIntersect1(embree_->scene, &context, &ray);
+  rtcIntersect1(embree_->rays.scene(), &context, &ray);
   if (ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {-1.0f, glm::vec3(0.0f)};
   return {ray.ray.tfar, glm::vec3(ray.hit.Ng_x, ray.hit.Ng_y, ray.hit.Ng_z)};
 }
