@@ -5,20 +5,8 @@
 #   tests/cli_test.sh path/to/shadowbench
 set -euo pipefail
 sb=$1
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-export SHADOWBENCH_QUIET=1
-fail() { echo "FAIL: $*" >&2; exit 1; }
-# refused TEXT COMMAND…: exit status 2 and one line on stderr that contains TEXT.
-refused() {
-  local text=$1 rc
-  shift
-  set +e
-  "$@" > /dev/null 2> "$work/err.txt"; rc=$?
-  set -e
-  [ $rc -eq 2 ] && [ "$(wc -l < "$work/err.txt")" -eq 1 ] && grep -qF -- "$text" "$work/err.txt" ||
-    fail "'$*': rc $rc, expected 2 and '$text', got: $(cat "$work/err.txt")"
-}
+# shellcheck source=support/cli.sh
+source "$(dirname "$0")/support/cli.sh"
 # A scene that does not exist: a refusal that names something else was made before the scene
 # was opened, so before any work.
 missing=$work/missing.obj

@@ -6,19 +6,8 @@
 set -euo pipefail
 sb=$1
 scripts=$(cd "$(dirname "$0")/../scripts" && pwd)
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-export SHADOWBENCH_QUIET=1
-fail() { echo "FAIL: $*" >&2; exit 1; }
-refused() {
-  local text=$1 rc
-  shift
-  set +e
-  "$@" > /dev/null 2> "$work/err.txt"; rc=$?
-  set -e
-  [ $rc -eq 2 ] && [ "$(wc -l < "$work/err.txt")" -eq 1 ] && grep -qF -- "$text" "$work/err.txt" ||
-    fail "'$*': rc $rc, expected 2 and '$text', got: $(cat "$work/err.txt")"
-}
+# shellcheck source=support/cli.sh
+source "$(dirname "$0")/support/cli.sh"
 
 "$sb" path --scene city --frames 2 -o "$work/path.json" > /dev/null
 # A small frame keeps the test fast; the path is the generated one, resized.
