@@ -6,6 +6,9 @@
 # front, and the tables (scripts/views_tables.py), all under results/views/<scene>.
 #   scripts/views.sh [--scene city:full] [--path scenes/paths/city-full.json] [--mode closed]
 #                    [--resolutions 1K,4K,16K] [--schemes all] [--frames N] [--out results/views]
+#                    [--variants]
+# --variants also runs the CSM and IASM variants of README's tables (other resolutions, cascades
+# and resolution sets, IASM ranked by each frame's own importance) into the same folder.
 # Any other argument goes to `shadowbench views` (e.g. -p iasm:m=8, --images all, --filter 9).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,13 +21,15 @@ schemes=all
 frames=""
 out=results/views
 views_args=()
+variants=""
 while [ $# -gt 0 ]; do
   case $1 in
+    --variants) variants=1; shift ;;
     --scene | --path | --mode | --resolutions | --schemes | --frames | --out)
       [ $# -ge 2 ] || { echo "views.sh: $1 needs a value" >&2; exit 2; }
       declare "${1#--}=$2"
       shift 2 ;;
-    -h | --help) sed -n '2,9s/^# \{0,1\}//p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,12s/^# \{0,1\}//p' "$0"; exit 0 ;;
     *) views_args+=("$1"); shift ;;
   esac
 done
@@ -63,5 +68,12 @@ path_args=()
 views="$out/$slug"
 "$sb" views --scene "$scene" "${path_args[@]}" \
   ${structures[@]:+--structure "$(IFS=,; echo "${structures[*]}")"} --out "$views" "${views_args[@]}"
+if [ -n "$variants" ]; then
+  for variant in "-t iasm -p iasm:importance=same-frame" "-t iasm -p iasm:resolution-set=even-256" \
+                 "-t csm -p csm:resolution=512" "-t csm -p csm:resolution=2048" "-t csm -p csm:cascades=4"; do
+    # shellcheck disable=SC2086
+    "$sb" views --scene "$scene" "${path_args[@]}" $variant --images none --out "$views" "${views_args[@]}"
+  done
+fi
 /usr/bin/python3 scripts/plot_views.py "$views" --out "$views/plots"
 /usr/bin/python3 scripts/views_tables.py "$views" | tee "$views/tables.md"
