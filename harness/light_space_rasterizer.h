@@ -5,7 +5,8 @@
 // covered by exactly one of them: closed meshes never double-count or leak a crossing, which
 // is what ray casting gets wrong on shared edges (and why it is slower: it must traverse the
 // whole solid to find the exit depth). Embree stays the independent check (tests) and the
-// path for spot lights.
+// path for spot lights. Under a light window (Light::window: a shadow-map cascade or tile)
+// triangles reaching outside the map are clipped to it first.
 #pragma once
 
 #include <cstdint>
