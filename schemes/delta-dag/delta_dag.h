@@ -1,0 +1,214 @@
+// delta-dag — the multiresolution hierarchy (SBE16a) as a DAG of sibling packs whose values are
+// relative to the parent (SBE16b's idea), chosen so that equal subtrees become equal bit for bit
+// and are shared across the whole map by hash-consing (as DAG-MH shares topology, Scandolo &
+// Eisemann 2021 §3.1), and stored with bit widths fitted to each pack (SSVDAG's variable pointer
+// widths, Villanueva et al. 2017 §4).
+//
+// A pack is the four children of one inner node. Bit layout, little-endian bit order:
+//   flags        8 bits   the kind of child k in bits 2k, 2k+1 (MhChild: none, full, empty, leaf)
+//   value bits   6 bits   } only if some child holds a value (full or leaf): the width of each
+//   shift        5 bits   } value field, and the shift applied to every value of the pack
+//   pointer bits 6 bits   only if some child is inner (full or empty)
+//   then, child by child in k order: its value (signed, value bits) if it holds one, then its
+//   pointer (unsigned, pointer bits) if it is inner.
+// A value v adds v << shift to the depth key its parent's path reconstructs (wrapping uint32, as
+// MMH's key deltas). A pointer is the distance in bits from the pack back to its child's pack:
+// packs are laid out children first, so every pointer is positive and the DAG has no cycle.
+#pragma once
+
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "schemes/interface/depth_decoder.h"
+#include "schemes/interface/serial.h"
+#include "schemes/shared/multires_hierarchy.h"
+
+namespace sb::delta_dag {
+
+// How each stored value is chosen inside its interval, relative to its parent's key.
+enum class ValueChoice : uint8_t {
+  // The number with the most trailing zero bits in the relative interval, 0 where the interval
+  // holds the parent's key: few significant bits, and the same number for every subtree whose
+  // relative intervals overlap enough, so that hash-consing finds them equal.
+  Simplest,
+  // The interval's middle key, as MH and MMH store it: the ablation's baseline.
+  Middle,
+};
+
+struct Options {
+  ValueChoice values = ValueChoice::Simplest;
+  bool sharing = true;  // hash-cons equal packs; false stores the tree (ablation)
+};
+
+// The number a ValueChoice::Simplest value takes in [lo, hi] (lo ≤ hi): 0 if the interval holds
+// 0, else the unique number with the most trailing zero bits.
+int64_t simplestIn(int64_t lo, int64_t hi);
+
+// Field widths of a pack, from its flags.
+struct PackShape {
+  bool hasValues, hasInner;
+  uint8_t headerBits;
+  uint8_t valuesBefore[kMhChildren], innerBefore[kMhChildren];
+};
+const PackShape& packShape(uint32_t flags);
+
+class DeltaDag {
+ public:
+  // Where a walk stands: the pack of an inner node at bit `position` (none for a leaf) and the key
+  // its path gives.
+  struct Walk {
+    uint64_t position;
+    MhChild kind;
+    int level;
+    uint32_t key;
+  };
+
+  DeltaDag() = default;
+  DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
+           std::vector<uint8_t> bytes, uint64_t bits);
+
+  uint32_t resolution() const { return uint32_t(1) << levels_; }
+  int levels() const { return levels_; }
+  uint64_t bits() const { return bits_; }
+
+  Walk rootWalk() const { return {rootPosition_, rootKind_, 0, rootKey_}; }
+
+  // One step of a walk to child k of its inner node; false where that child is missing (its
+  // square is answered by the walk's key).
+  bool step(Walk& walk, int k) const {
+    const uint64_t word = read64(walk.position);
+    const uint32_t flags = uint32_t(word & 0xff);
+    const MhChild child = MhChild(childFlag(flags, k));
+    if (child == MhChild::None) return false;
+    const PackShape& shape = packShape(flags);
+    const Fields f = fields(word, shape);
+    uint64_t at = walk.position + shape.headerBits + shape.valuesBefore[k] * f.valueBits +
+                  shape.innerBefore[k] * f.pointerBits;
+    if (hasValue(child)) {
+      walk.key += uint32_t(readSigned(at, f.valueBits)) << f.shift;
+      at += f.valueBits;
+    }
+    if (child != MhChild::Leaf) walk.position -= readUnsigned(at, f.pointerBits);
+    walk.kind = child;
+    ++walk.level;
+    return true;
+  }
+
+  uint32_t texelKey(uint32_t i, uint32_t j) const {
+    Walk walk = rootWalk();
+    while (walk.kind != MhChild::Leaf && step(walk, mhChildIndex(i, j, levels_ - walk.level - 1))) {
+    }
+    return walk.key;
+  }
+
+  // The keys of the texels of `rect` in one walk (issue 13): down to the lowest node holding the
+  // whole rectangle, then into each child it overlaps; a missing child or a leaf gives its whole
+  // overlap one key: visit(key, texels) once for it.
+  template <class Visit>
+  void forEachKeyBlock(const TexelRect& rect, Visit&& visit) const {
+    const int common = levels_ - std::bit_width((rect.i0 ^ rect.i1) | (rect.j0 ^ rect.j1));
+    Walk walk = rootWalk();
+    while (walk.kind != MhChild::Leaf && walk.level < common)
+      if (!step(walk, mhChildIndex(rect.i0, rect.j0, levels_ - walk.level - 1)))
+        return visit(walk.key, rect.texels());
+    if (walk.kind == MhChild::Leaf) return visit(walk.key, rect.texels());
+    const uint32_t corner = ~((uint32_t(1) << (levels_ - walk.level)) - 1);
+    walkRect(walk, rect.i0 & corner, rect.j0 & corner, rect, visit);
+  }
+
+  SizeBreakdown size() const;
+  void save(ByteWriter& out) const;
+  // Validates every pack reachable from the root: fields inside the structure, widths the writer
+  // uses, no value of 0, pointers backwards, children only above the texel level. Throws
+  // FormatError.
+  static DeltaDag load(ByteReader& in, const MapInfo& map);
+
+ private:
+  struct Fields {
+    uint32_t valueBits, shift, pointerBits;
+  };
+  static Fields fields(uint64_t word, const PackShape& shape) {
+    Fields f{0, 0, 0};
+    uint32_t at = 8;
+    if (shape.hasValues) f.valueBits = (word >> 8) & 63, f.shift = (word >> 14) & 31, at = 19;
+    if (shape.hasInner) f.pointerBits = (word >> at) & 63;
+    return f;
+  }
+  // 64 bits from bit `position` on: the bytes carry 8 bytes of padding past the last bit.
+  uint64_t read64(uint64_t position) const {
+    uint64_t word;
+    std::memcpy(&word, bytes_.data() + (position >> 3), sizeof word);
+    return word >> (position & 7);
+  }
+  uint64_t readUnsigned(uint64_t position, uint32_t bits) const {
+    return read64(position) & ((uint64_t(1) << bits) - 1);
+  }
+  int64_t readSigned(uint64_t position, uint32_t bits) const {
+    return int64_t(read64(position) << (64 - bits)) >> (64 - bits);
+  }
+
+  template <class Visit>
+  void walkRect(const Walk& walk, uint32_t x0, uint32_t y0, const TexelRect& rect,
+                Visit& visit) const {
+    const uint32_t half = uint32_t(1) << (levels_ - walk.level - 1);
+    const uint32_t midX = x0 + half, midY = y0 + half;
+    const bool columns[2] = {rect.i0 < midX, rect.i1 >= midX};
+    const bool rows[2] = {rect.j0 < midY, rect.j1 >= midY};
+    for (int k = 0; k < kMhChildren; ++k) {
+      if (!columns[k & 1] || !rows[k >> 1]) continue;
+      const uint32_t cx = x0 + (k & 1) * half, cy = y0 + (k >> 1) * half;
+      Walk child = walk;
+      if (!step(child, k) || child.kind == MhChild::Leaf)
+        visit(child.key, overlap(rect, cx, cy, half));
+      else
+        walkRect(child, cx, cy, rect, visit);
+    }
+  }
+
+  int levels_ = 0;
+  MhChild rootKind_ = MhChild::Leaf;  // Leaf (one key for the map) or Full (a pack below)
+  uint32_t rootKey_ = 0;
+  uint64_t rootPosition_ = 0;
+  std::vector<uint8_t> bytes_;  // bits_ bits, then 8 bytes of padding
+  uint64_t bits_ = 0;
+};
+
+// What the encode step measured, for the build record's counters.
+struct Statistics {
+  uint64_t valuedNodes = 0;   // MH nodes holding a value
+  uint64_t demotedNodes = 0;  // of them, those whose interval held their parent's key
+  uint64_t treePacks = 0;     // inner nodes with a pack left after demotion
+  uint64_t dagPacks = 0;      // distinct packs stored
+  uint64_t headerBits = 0, valueBits = 0, pointerBits = 0;
+};
+
+struct Encoded {
+  DeltaDag dag;
+  Statistics statistics;
+};
+
+// The encode step from the hierarchy (HierarchyEncode's work): values chosen top-down, packs
+// hash-consed bottom-up, laid out children first.
+Encoded encode(MultiresHierarchy hierarchy, const Options& options);
+
+class Decoder final : public DepthDecoder<Decoder> {
+ public:
+  explicit Decoder(DeltaDag dag) : dag_(std::move(dag)) {}
+  uint32_t resolution() const { return dag_.resolution(); }
+  float depth(uint32_t i, uint32_t j) const { return depthOfKey(dag_.texelKey(i, j)); }
+  uint64_t litTexels(const TexelRect& rect, float z) const {
+    uint64_t lit = 0;
+    dag_.forEachKeyBlock(
+        rect, [&](uint32_t key, uint64_t texels) { lit += z <= depthOfKey(key) ? texels : 0; });
+    return lit;
+  }
+  SizeBreakdown size() const override { return dag_.size(); }
+  void save(ByteWriter& out) const override { dag_.save(out); }
+
+ private:
+  DeltaDag dag_;
+};
+
+}  // namespace sb::delta_dag

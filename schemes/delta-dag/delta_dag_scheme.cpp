@@ -1,0 +1,74 @@
+// The registry row of `delta-dag`: its parameters, the MH-family builds around its encode step
+// (whole and in parts, mh_parts.h), and its loader.
+#include "schemes/delta-dag/delta_dag.h"
+#include "schemes/shared/mh_parts.h"
+
+namespace sb {
+namespace {
+
+using delta_dag::Options;
+using delta_dag::ValueChoice;
+
+Options optionsOf(const ParamValues& params) {
+  return {params.choice("values") == "middle" ? ValueChoice::Middle : ValueChoice::Simplest,
+          params.choice("sharing") == "dag"};
+}
+
+std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Options& options,
+                                        BuildContext& context) {
+  context.phase("encode");
+  delta_dag::Encoded encoded = delta_dag::encode(std::move(hierarchy), options);
+  const delta_dag::Statistics& s = encoded.statistics;
+  context.count("valued nodes", s.valuedNodes);
+  context.count("demoted nodes", s.demotedNodes);
+  context.count("tree packs", s.treePacks);
+  context.count("dag packs", s.dagPacks);
+  context.count("header bits", s.headerBits);
+  context.count("value bits", s.valueBits);
+  context.count("pointer bits", s.pointerBits);
+  return std::make_unique<delta_dag::Decoder>(std::move(encoded.dag));
+}
+
+// Per node of the hierarchy, what the encode step holds beside it: the reconstructed keys and
+// relative values (8), each inner node's pack (4); per pack at most one per node: the pack (36),
+// its hash and slot (8 + 8) and its position (8).
+constexpr uint64_t kEncodeBytesPerNode = 12 + 36 + 16 + 8;
+
+SchemeInfo deltaDag() {
+  SchemeInfo info;
+  info.name = "delta-dag";
+  info.paper = "this framework (issue 16): MMH's relative values in a hash-consed DAG";
+  info.kind = SchemeKind::Depth;
+  info.params = {
+      ParamSpec::choice("values",
+                        "how each value is chosen in its interval: simplest takes the number with "
+                        "the most trailing zero bits relative to the parent's key (0 where it "
+                        "fits, sharing and few bits), middle the interval's middle as MH and MMH",
+                        "simplest", {"simplest", "middle"}, {"simplest", "middle"}),
+      ParamSpec::choice("sharing",
+                        "dag stores each distinct sibling pack once (hash-consing over the whole "
+                        "map), tree every pack where it lies",
+                        "dag", {"dag", "tree"}, {"dag", "tree"})};
+  setMhBuilds(info, {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
+                       return [options = optionsOf(params)](MultiresHierarchy hierarchy,
+                                                            BuildContext& context) {
+                         return encodeDeltaDag(std::move(hierarchy), options, context);
+                       };
+                     },
+                     [](const MapInfo& map) {
+                       return MhBuilder::hierarchyFloorBytes(map) / sizeof(MhNode) *
+                              (sizeof(MhNode) + kEncodeBytesPerNode);
+                     },
+                     {{}, sizeof(MhNode) + kEncodeBytesPerNode, 0}});
+  info.load = [](ByteReader& in, const MapInfo& map,
+                 const ParamValues&) -> std::unique_ptr<Decoder> {
+    return std::make_unique<delta_dag::Decoder>(delta_dag::DeltaDag::load(in, map));
+  };
+  return info;
+}
+
+}  // namespace
+
+SHADOWBENCH_REGISTER_SCHEME(deltaDag);
+
+}  // namespace sb

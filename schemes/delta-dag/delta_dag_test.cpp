@@ -1,0 +1,130 @@
+// delta-dag against independent answers: the simplest number of an interval by brute force, every
+// texel's key inside its interval on seeded maps, sharing on maps built to repeat, and the
+// structure read back from its bytes answering as built. (The correctness matrix and the
+// interface tests check it like every scheme; these pin what is its own.)
+#include <bit>
+#include <limits>
+
+#include <catch2/catch.hpp>
+
+#include "schemes/delta-dag/delta_dag.h"
+#include "schemes/interface/splitmix.h"
+#include "tests/support/hierarchy_map.h"
+
+namespace sb {
+namespace {
+
+using delta_dag::DeltaDag;
+using delta_dag::Options;
+using delta_dag::ValueChoice;
+using testing::hierarchyOf;
+using testing::SyntheticMap;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// The number with the most trailing zeros in [lo, hi] by trying them all (0 counts as having
+// the most).
+int64_t simplestByBruteForce(int64_t lo, int64_t hi) {
+  int64_t best = lo;
+  for (int64_t v = lo; v <= hi; ++v) {
+    if (v == 0) return 0;
+    if (std::countr_zero(uint64_t(v)) > std::countr_zero(uint64_t(best))) best = v;
+  }
+  return best;
+}
+
+uint64_t texelsOutside(const SyntheticMap& map, const DeltaDag& dag) {
+  uint64_t wrong = 0;
+  for (uint32_t j = 0; j < map.resolution; ++j)
+    for (uint32_t i = 0; i < map.resolution; ++i)
+      wrong += !testing::insideInterval(map, i, j, dag.texelKey(i, j));
+  return wrong;
+}
+
+// A 64² map of one motif repeated, each copy raised by its own depth, with bands of the same
+// width: the copies' relative intervals are equal, so their packs must be shared.
+SyntheticMap repeatedMotif(uint64_t seed, uint32_t motifSize) {
+  const SyntheticMap motif = SyntheticMap::random(motifSize, DepthMode::Closed, seed);
+  SyntheticMap map{64, DepthMode::Closed, std::vector<float>(64 * 64), std::vector<float>(64 * 64)};
+  for (uint32_t j = 0; j < 64; ++j)
+    for (uint32_t i = 0; i < 64; ++i) {
+      const size_t at = size_t(j) * 64 + i, m = size_t(j % motifSize) * motifSize + i % motifSize;
+      map.lo[at] = motif.lo[m] == 1.0f ? 1.0f : motif.lo[m] * 0.5f;
+      map.hi[at] = motif.hi[m] == kInf ? kInf : map.lo[at] + 0.05f;
+    }
+  return map;
+}
+
+DeltaDag roundTrip(const DeltaDag& dag, const MapInfo& map) {
+  ByteWriter out;
+  dag.save(out);
+  ByteReader in(out.bytes());
+  DeltaDag loaded = DeltaDag::load(in, map);
+  in.expectEnd();
+  return loaded;
+}
+
+TEST_CASE("the simplest number of an interval is the one with the most trailing zeros",
+          "[delta-dag]") {
+  uint64_t state = 16;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int64_t a = int64_t(nextRandom(state) % 4001) - 2000;
+    const int64_t b = a + int64_t(nextRandom(state) % (trial % 7 == 0 ? 3000 : 40));
+    INFO("[" << a << ", " << b << "]");
+    CHECK(delta_dag::simplestIn(a, b) == simplestByBruteForce(a, b));
+  }
+  CHECK(delta_dag::simplestIn(0x3f000001, 0x7f800000) == 0x40000000);
+  CHECK(delta_dag::simplestIn(-0x7f800000, -0x3f000001) == -0x40000000);
+  CHECK(delta_dag::simplestIn(5, 5) == 5);
+}
+
+TEST_CASE("every texel's key lies in its interval, for every option", "[delta-dag]") {
+  for (const DepthMode mode : {DepthMode::Open, DepthMode::Closed, DepthMode::Static})
+    for (uint64_t seed = 1; seed <= 6; ++seed)
+      for (const uint32_t resolution : {1u, 2u, 16u, 64u})
+        for (const ValueChoice values : {ValueChoice::Simplest, ValueChoice::Middle})
+          for (const bool sharing : {true, false}) {
+            const SyntheticMap map = SyntheticMap::random(resolution, mode, seed);
+            const delta_dag::Encoded encoded =
+                delta_dag::encode(hierarchyOf(map, std::min(resolution, 16u)), {values, sharing});
+            INFO("mode " << toString(mode) << ", seed " << seed << ", R " << resolution);
+            CHECK(texelsOutside(map, encoded.dag) == 0);
+            const DeltaDag loaded = roundTrip(encoded.dag, map.info(SchemeKind::Depth));
+            for (uint32_t j = 0; j < resolution; ++j)
+              for (uint32_t i = 0; i < resolution; ++i)
+                REQUIRE(loaded.texelKey(i, j) == encoded.dag.texelKey(i, j));
+            const delta_dag::Statistics& s = encoded.statistics;
+            CHECK(s.dagPacks <= s.treePacks);
+            CHECK(encoded.dag.bits() == s.headerBits + s.valueBits + s.pointerBits);
+          }
+}
+
+TEST_CASE("a uniform map is one leaf root", "[delta-dag]") {
+  const SyntheticMap map = SyntheticMap::uniform(32, 0.25f, 0.75f);
+  const delta_dag::Encoded encoded = delta_dag::encode(hierarchyOf(map, 16), {});
+  CHECK(encoded.dag.bits() == 0);
+  // The simplest key in [0.25, 0.75] is 0.5's: the only key of the interval with 24 trailing zeros.
+  CHECK(encoded.dag.texelKey(7, 9) == std::bit_cast<uint32_t>(0.5f));
+}
+
+TEST_CASE("repeated subtrees are stored once, and simplest values find more of them",
+          "[delta-dag]") {
+  for (uint64_t seed = 1; seed <= 8; ++seed) {
+    const SyntheticMap map = repeatedMotif(seed, seed % 2 ? 8 : 16);
+    const auto build = [&](ValueChoice values, bool sharing) {
+      return delta_dag::encode(hierarchyOf(map, 16), {values, sharing});
+    };
+    const delta_dag::Encoded tree = build(ValueChoice::Simplest, false);
+    const delta_dag::Encoded dag = build(ValueChoice::Simplest, true);
+    const delta_dag::Encoded middle = build(ValueChoice::Middle, true);
+    INFO("seed " << seed);
+    CHECK(texelsOutside(map, dag.dag) == 0);
+    CHECK(dag.statistics.treePacks == tree.statistics.treePacks);
+    // Every copy of the motif repeats the packs below the motif's root at least.
+    CHECK(dag.statistics.dagPacks * 2 < dag.statistics.treePacks);
+    CHECK(dag.dag.bits() < tree.dag.bits());
+    CHECK(dag.statistics.dagPacks <= middle.statistics.dagPacks);
+  }
+}
+
+}  // namespace
+}  // namespace sb
