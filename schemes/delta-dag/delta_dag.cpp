@@ -16,6 +16,11 @@ namespace {
 
 constexpr uint32_t kNoPack = UINT32_MAX;
 constexpr uint32_t kMaxValueBits = 32, kMaxPointerBits = 57;  // what read64 reaches
+constexpr uint32_t kMaxFormatBits = 16;
+
+bool isInner(uint32_t kind) {
+  return MhChild(kind) == MhChild::Full || MhChild(kind) == MhChild::Empty;
+}
 
 std::array<PackShape, 256> makePackShapes() {
   std::array<PackShape, 256> shapes{};
@@ -88,6 +93,106 @@ int32_t chooseValue(const KeyInterval& interval, uint32_t parent, ValueChoice ch
   return int32_t(value);  // keys are at most +inf's, 0x7f800000: differences fit int32
 }
 
+// The packs written children first, each once: every pointer reaches back, to a pack already
+// placed, so a pack's widths are known when it is written.
+struct Layout {
+  BitWriter out;
+  uint64_t rootPosition = 0;
+  uint32_t formatBits = 0;
+  std::vector<uint32_t> codes;                          // the format table
+  std::unordered_map<uint32_t, uint64_t> formatCounts;  // packs per format code
+  uint64_t escapes = 0, headerBits = 0, valueBits = 0, pointerBits = 0;
+  uint64_t bits() const { return out.position(); }
+};
+
+Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, uint32_t formatBits,
+              std::vector<uint32_t> codes) {
+  Layout layout;
+  layout.formatBits = formatBits;
+  std::unordered_map<uint32_t, uint32_t> indexOf;
+  for (uint32_t c = 0; c < codes.size(); ++c) indexOf.emplace(codes[c], c);
+  layout.codes = std::move(codes);
+  const uint32_t escape = uint32_t((uint64_t(1) << formatBits) - 1);
+  BitWriter& out = layout.out;
+  std::vector<uint64_t> placed(packs.size(), UINT64_MAX);
+  const auto place = [&](auto& self, uint32_t id) -> void {
+    const Pack& pack = packs[id];
+    const PackShape& shape = packShape(pack.flags);
+    for (int k = 0; k < kMhChildren; ++k)
+      if (isInner(childFlag(pack.flags, k)) && placed[pack.children[k]] == UINT64_MAX)
+        self(self, pack.children[k]);
+    const uint64_t position = out.position();
+    placed[id] = position;
+    PackFormat f;
+    f.flags = pack.flags;
+    uint32_t shift = 32;
+    for (int k = 0; k < kMhChildren; ++k)
+      if (hasValue(MhChild(childFlag(pack.flags, k))))
+        shift = std::min<uint32_t>(shift, std::countr_zero(uint32_t(pack.values[k])));
+    f.shift = uint8_t(shape.hasValues ? shift : 0);
+    for (int k = 0; k < kMhChildren; ++k) {
+      const uint32_t kind = childFlag(pack.flags, k);
+      if (hasValue(MhChild(kind)))
+        f.valueBits = uint8_t(std::max(uint32_t(f.valueBits), signedBits(pack.values[k] >> shift)));
+      if (isInner(kind))
+        f.pointerBits = uint8_t(std::max<uint32_t>(
+            f.pointerBits, uint32_t(std::bit_width(position - placed[pack.children[k]]))));
+    }
+    if (f.pointerBits > kMaxPointerBits)
+      throw std::length_error("delta-dag: a pointer needs more than 57 bits");
+    ++layout.formatCounts[f.code()];
+    if (const auto found = indexOf.find(f.code()); found != indexOf.end()) {
+      out.put(found->second, formatBits);
+      layout.headerBits += formatBits;
+    } else {
+      ++layout.escapes;
+      out.put(escape, formatBits);
+      out.put(f.flags, 8);
+      if (shape.hasValues) out.put(f.valueBits, 6), out.put(f.shift, 5);
+      if (shape.hasInner) out.put(f.pointerBits, 6);
+      layout.headerBits += formatBits + shape.headerBits;
+    }
+    for (int k = 0; k < kMhChildren; ++k) {
+      const uint32_t kind = childFlag(pack.flags, k);
+      if (hasValue(MhChild(kind))) {
+        out.put(uint64_t(int64_t(pack.values[k] >> shift)), f.valueBits);
+        layout.valueBits += f.valueBits;
+      }
+      if (isInner(kind)) {
+        out.put(position - placed[pack.children[k]], f.pointerBits);
+        layout.pointerBits += f.pointerBits;
+      }
+    }
+  };
+  place(place, rootPack);
+  layout.rootPosition = placed[rootPack];
+  return layout;
+}
+
+// The table that makes headers smallest for these counts: the most frequent formats, as many as
+// `format bits` index (one index left for the escape), for the best number of bits.
+std::pair<uint32_t, std::vector<uint32_t>> chooseFormats(
+    const std::unordered_map<uint32_t, uint64_t>& counts) {
+  std::vector<std::pair<uint64_t, uint32_t>> byFrequency;
+  for (const auto& [code, count] : counts) byFrequency.push_back({count, code});
+  std::sort(byFrequency.begin(), byFrequency.end(), std::greater<>());
+  uint64_t total = 0;
+  for (const auto& entry : byFrequency) total += entry.first;
+  uint64_t bestCost = UINT64_MAX;
+  uint32_t bestBits = 0;
+  for (uint32_t b = 0; b <= kMaxFormatBits; ++b) {
+    const uint64_t entries = std::min<uint64_t>(byFrequency.size(), (uint64_t(1) << b) - 1);
+    uint64_t cost = total * b + entries * 32;
+    for (size_t e = entries; e < byFrequency.size(); ++e)
+      cost += byFrequency[e].first * packShape(byFrequency[e].second).headerBits;
+    if (cost < bestCost) bestCost = cost, bestBits = b;
+  }
+  std::vector<uint32_t> codes;
+  for (size_t e = 0; e < byFrequency.size() && e + 1 < (uint64_t(1) << bestBits); ++e)
+    codes.push_back(byFrequency[e].second);
+  return {bestBits, codes};
+}
+
 }  // namespace
 
 int64_t simplestIn(int64_t lo, int64_t hi) {
@@ -105,27 +210,62 @@ const PackShape& packShape(uint32_t flags) {
 }
 
 DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
+                   uint32_t formatBits, std::vector<uint32_t> formatCodes,
                    std::vector<uint8_t> bytes, uint64_t bits)
     : levels_(levels),
       rootKind_(rootKind),
       rootKey_(rootKey),
       rootPosition_(rootPosition),
+      formatBits_(formatBits),
+      formatMask_((uint64_t(1) << formatBits) - 1),
       bytes_(std::move(bytes)),
-      bits_(bits) {}
+      bits_(bits) {
+  for (const uint32_t code : formatCodes) {
+    PackFormat f = PackFormat::ofCode(code);
+    f.headerBits = uint8_t(formatBits);
+    formats_.push_back(f);
+  }
+}
+
+std::vector<uint32_t> DeltaDag::formatCodes() const {
+  std::vector<uint32_t> codes;
+  for (const PackFormat& f : formats_) codes.push_back(f.code());
+  return codes;
+}
 
 SizeBreakdown DeltaDag::size() const {
-  // The root's kind, key and position, and the packs' bits (whole bytes; the padding is not
-  // part of the structure).
-  return {{"root", 1 + 4 + 8}, {"packs", (bits_ + 7) / 8}};
+  // The root's kind, key and position and the format bits; the table; the packs' bits (whole
+  // bytes; the padding is not part of the structure).
+  return {
+      {"root", 1 + 4 + 8 + 1}, {"pack formats", formats_.size() * 4}, {"packs", (bits_ + 7) / 8}};
 }
 
 void DeltaDag::save(ByteWriter& out) const {
   out.put<uint8_t>(uint8_t(rootKind_));
   out.put<uint32_t>(rootKey_);
   out.put<uint64_t>(rootPosition_);
+  out.put<uint8_t>(uint8_t(formatBits_));
+  out.putArray(std::span<const uint32_t>(formatCodes()));
   out.put<uint64_t>(bits_);
   out.putArray(std::span<const uint8_t>(bytes_.data(), (bits_ + 7) / 8));
 }
+
+namespace {
+
+// Why `f` is not a format the writer writes, or "".
+std::string invalidFormat(const PackFormat& f) {
+  const PackShape& shape = packShape(f.flags);
+  if (f.flags == 0) return "has no children";
+  if (shape.hasValues
+          ? f.valueBits == 0 || f.valueBits > kMaxValueBits || f.valueBits + f.shift > 32
+          : f.valueBits != 0 || f.shift != 0)
+    return fmt::format("has {}-bit values shifted by {}", f.valueBits, f.shift);
+  if (shape.hasInner ? f.pointerBits == 0 || f.pointerBits > kMaxPointerBits : f.pointerBits != 0)
+    return fmt::format("has {}-bit pointers", f.pointerBits);
+  return {};
+}
+
+}  // namespace
 
 DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   if (map.resolution == 0 || !std::has_single_bit(map.resolution))
@@ -142,6 +282,19 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   if (rootKey > 0x7f800000u)
     throw FormatError(fmt::format("delta-dag: root key {:#x} is not a depth", rootKey));
   const uint64_t rootPosition = in.get<uint64_t>("root position");
+  const uint32_t formatBits = in.get<uint8_t>("format bits");
+  if (formatBits > kMaxFormatBits)
+    throw FormatError(
+        fmt::format("delta-dag: {} format bits, at most {}", formatBits, kMaxFormatBits));
+  std::vector<uint32_t> codes = in.getArray<uint32_t>("pack formats");
+  if (codes.size() > (uint64_t(1) << formatBits) - 1 || (formatBits != 0 && codes.empty()))
+    throw FormatError(
+        fmt::format("delta-dag: {} pack formats for {} format bits", codes.size(), formatBits));
+  for (size_t c = 0; c < codes.size(); ++c)
+    if (codes[c] >> 25 != 0 || !invalidFormat(PackFormat::ofCode(codes[c])).empty())
+      throw FormatError(fmt::format(
+          "delta-dag: pack format {} ({:#x}) {}", c, codes[c],
+          codes[c] >> 25 ? "has bits past its 25" : invalidFormat(PackFormat::ofCode(codes[c]))));
   const uint64_t bits = in.get<uint64_t>("bit count");
   if (bits > uint64_t(in.remaining()) * 8) throw FormatError("delta-dag: packs truncated");
   const uint64_t byteCount = (bits + 7) / 8;
@@ -149,9 +302,10 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   bytes.resize(byteCount + 8, 0);
   if (bits % 8 != 0 && (bytes[byteCount - 1] >> (bits % 8)) != 0)
     throw FormatError("delta-dag: bits past the last pack are set");
-  if (rootKind == MhChild::Leaf && (rootPosition != 0 || bits != 0))
+  if (rootKind == MhChild::Leaf && (rootPosition != 0 || bits != 0 || formatBits != 0))
     throw FormatError("delta-dag: a leaf root with packs");
-  DeltaDag dag(levels, rootKind, rootKey, rootPosition, std::move(bytes), bits);
+  DeltaDag dag(levels, rootKind, rootKey, rootPosition, formatBits, std::move(codes),
+               std::move(bytes), bits);
   if (rootKind == MhChild::Leaf) return dag;
 
   // Each pack's height (levels of packs from it down, itself included) once: a pack reached at
@@ -167,18 +321,18 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
       return found->second;
     }
     if (budget < 1) throw fail(position, "lies below the texel level");
-    if (position >= bits || bits - position < 8) throw fail(position, "lies outside the packs");
+    if (position >= bits) throw fail(position, "lies outside the packs");
     const uint64_t word = dag.read64(position);
-    const uint32_t flags = uint32_t(word & 0xff);
-    if (flags == 0) throw fail(position, "has no children");
-    const PackShape& shape = packShape(flags);
-    const Fields f = fields(word, shape);
-    if (shape.hasValues &&
-        (f.valueBits == 0 || f.valueBits > kMaxValueBits || f.valueBits + f.shift > 32))
-      throw fail(position, fmt::format("has {}-bit values shifted by {}", f.valueBits, f.shift));
-    if (shape.hasInner && (f.pointerBits == 0 || f.pointerBits > kMaxPointerBits))
-      throw fail(position, fmt::format("has {}-bit pointers", f.pointerBits));
-    uint64_t at = position + shape.headerBits;
+    const PackFormat f = dag.format(word);
+    if (f.headerBits > bits - position) throw fail(position, "runs past the packs");
+    if ((word & dag.formatMask_) >= dag.formats_.size() &&
+        (word & dag.formatMask_) != dag.formatMask_)
+      throw fail(position,
+                 fmt::format("has format {}, of {}", word & dag.formatMask_, dag.formats_.size()));
+    if (const std::string invalid = invalidFormat(f); !invalid.empty())
+      throw fail(position, invalid);
+    const uint32_t flags = f.flags;
+    uint64_t at = position + f.headerBits;
     int below = 0;
     for (int k = 0; k < kMhChildren; ++k) {
       const MhChild kind = MhChild(childFlag(flags, k));
@@ -276,56 +430,26 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   const uint32_t rootPack = packOf[root];
   values = {}, packOf = {};
 
-  // Children first, each pack once: every pointer reaches back, to a pack already placed. A
-  // pack's widths are known when it is written, since all it points to lies behind it.
-  BitWriter out;
-  std::vector<uint64_t> placed(packs.size(), UINT64_MAX);
-  const auto place = [&](auto& self, uint32_t id) -> void {
-    const Pack& pack = packs[id];
-    for (int k = 0; k < kMhChildren; ++k) {
-      const MhChild kind = MhChild(childFlag(pack.flags, k));
-      if ((kind == MhChild::Full || kind == MhChild::Empty) &&
-          placed[pack.children[k]] == UINT64_MAX)
-        self(self, pack.children[k]);
-    }
-    const uint64_t position = out.position();
-    placed[id] = position;
-    const PackShape& shape = packShape(pack.flags);
-    uint32_t shift = 32, valueBits = 0, pointerBits = 0;
-    for (int k = 0; k < kMhChildren; ++k)
-      if (hasValue(MhChild(childFlag(pack.flags, k))))
-        shift = std::min<uint32_t>(shift, std::countr_zero(uint32_t(pack.values[k])));
-    for (int k = 0; k < kMhChildren; ++k) {
-      const MhChild kind = MhChild(childFlag(pack.flags, k));
-      if (hasValue(kind)) valueBits = std::max(valueBits, signedBits(pack.values[k] >> shift));
-      if (kind == MhChild::Full || kind == MhChild::Empty)
-        pointerBits = std::max<uint32_t>(
-            pointerBits, uint32_t(std::bit_width(position - placed[pack.children[k]])));
-    }
-    if (pointerBits > kMaxPointerBits)
-      throw std::length_error("delta-dag: a pointer needs more than 57 bits");
-    out.put(pack.flags, 8);
-    if (shape.hasValues) out.put(valueBits, 6), out.put(shift, 5);
-    if (shape.hasInner) out.put(pointerBits, 6);
-    stats.headerBits += shape.headerBits;
-    for (int k = 0; k < kMhChildren; ++k) {
-      const MhChild kind = MhChild(childFlag(pack.flags, k));
-      if (hasValue(kind)) {
-        out.put(uint64_t(int64_t(pack.values[k] >> shift)), valueBits);
-        stats.valueBits += valueBits;
-      }
-      if (kind == MhChild::Full || kind == MhChild::Empty) {
-        out.put(position - placed[pack.children[k]], pointerBits);
-        stats.pointerBits += pointerBits;
-      }
-    }
-  };
   if (rootPack == kNoPack)
-    return {DeltaDag(hierarchy.levels, MhChild::Leaf, rootKey, 0, std::vector<uint8_t>(8, 0), 0),
-            stats};
-  place(place, rootPack);
-  const uint64_t bits = out.position();
-  return {DeltaDag(hierarchy.levels, MhChild::Full, rootKey, placed[rootPack], out.release(), bits),
+    return {
+        DeltaDag(hierarchy.levels, MhChild::Leaf, rootKey, 0, 0, {}, std::vector<uint8_t>(8, 0), 0),
+        stats};
+  // Laid out with explicit formats, then again with the table of the formats found, for as long as
+  // the table shrinks the structure (shorter headers shorten pointers, which changes formats).
+  Layout best = layOut(packs, rootPack, 0, {});
+  for (int round = 0; round < 4; ++round) {
+    const auto [formatBits, codes] = chooseFormats(best.formatCounts);
+    Layout next = layOut(packs, rootPack, formatBits, codes);
+    if (next.bits() + next.codes.size() * 32 >= best.bits() + best.codes.size() * 32) break;
+    best = std::move(next);
+  }
+  stats.formats = best.codes.size();
+  stats.escapes = best.escapes;
+  stats.headerBits = best.headerBits, stats.valueBits = best.valueBits;
+  stats.pointerBits = best.pointerBits;
+  const uint64_t bits = best.bits();
+  return {DeltaDag(hierarchy.levels, MhChild::Full, rootKey, best.rootPosition, best.formatBits,
+                   std::move(best.codes), best.out.release(), bits),
           stats};
 }
 

@@ -4,7 +4,12 @@
 // Eisemann 2021 §3.1), and stored with bit widths fitted to each pack (SSVDAG's variable pointer
 // widths, Villanueva et al. 2017 §4).
 //
-// A pack is the four children of one inner node. Bit layout, little-endian bit order:
+// A pack is the four children of one inner node. Its header is its *format*: its flags and field
+// widths. The structure keeps a table of the most frequent formats, and a pack begins with
+// `format bits` bits of index into it; the index 2^(format bits) − 1 says the format follows
+// explicitly (an escape). Bit layout, little-endian bit order:
+//   format index format bits
+//   and after an escape:
 //   flags        8 bits   the kind of child k in bits 2k, 2k+1 (MhChild: none, full, empty, leaf)
 //   value bits   6 bits   } only if some child holds a value (full or leaf): the width of each
 //   shift        5 bits   } value field, and the shift applied to every value of the pack
@@ -12,13 +17,17 @@
 //   then, child by child in k order: its value (signed, value bits) if it holds one, then its
 //   pointer (unsigned, pointer bits) if it is inner.
 // A value v adds v << shift to the depth key its parent's path reconstructs (wrapping uint32, as
-// MMH's key deltas). A pointer is the distance in bits from the pack back to its child's pack:
-// packs are laid out children first, so every pointer is positive and the DAG has no cycle.
+// MMH's key deltas). Packs of a few formats dominate (leaves of one width under a node of one
+// pointer width), so an index of some 6–10 bits replaces a header of up to 25 (SSVDAG's point,
+// Villanueva et al. 2017 §4: spend bits by frequency). A pointer is the distance in bits from the
+// pack back to its child's pack: packs are laid out children first, so every pointer is positive
+// and the DAG has no cycle.
 #pragma once
 
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "schemes/interface/depth_decoder.h"
@@ -49,10 +58,22 @@ int64_t simplestIn(int64_t lo, int64_t hi);
 // Field widths of a pack, from its flags.
 struct PackShape {
   bool hasValues, hasInner;
-  uint8_t headerBits;
+  uint8_t headerBits;  // of an explicit format
   uint8_t valuesBefore[kMhChildren], innerBefore[kMhChildren];
 };
 const PackShape& packShape(uint32_t flags);
+
+// A pack's format: its flags and widths, and the bits its header takes.
+struct PackFormat {
+  uint8_t flags = 0, valueBits = 0, shift = 0, pointerBits = 0, headerBits = 0;
+  // The 25 bits of an explicit format (flags, then the widths the flags call for), which also
+  // name it in the table.
+  uint32_t code() const { return flags | valueBits << 8 | shift << 14 | pointerBits << 19; }
+  static PackFormat ofCode(uint32_t code) {
+    return {uint8_t(code), uint8_t(code >> 8 & 63), uint8_t(code >> 14 & 31),
+            uint8_t(code >> 19 & 63), 0};
+  }
+};
 
 class DeltaDag {
  public:
@@ -67,7 +88,8 @@ class DeltaDag {
 
   DeltaDag() = default;
   DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
-           std::vector<uint8_t> bytes, uint64_t bits);
+           uint32_t formatBits, std::vector<uint32_t> formatCodes, std::vector<uint8_t> bytes,
+           uint64_t bits);
 
   uint32_t resolution() const { return uint32_t(1) << levels_; }
   int levels() const { return levels_; }
@@ -78,13 +100,11 @@ class DeltaDag {
   // One step of a walk to child k of its inner node; false where that child is missing (its
   // square is answered by the walk's key).
   bool step(Walk& walk, int k) const {
-    const uint64_t word = read64(walk.position);
-    const uint32_t flags = uint32_t(word & 0xff);
-    const MhChild child = MhChild(childFlag(flags, k));
+    const PackFormat f = format(read64(walk.position));
+    const MhChild child = MhChild(childFlag(f.flags, k));
     if (child == MhChild::None) return false;
-    const PackShape& shape = packShape(flags);
-    const Fields f = fields(word, shape);
-    uint64_t at = walk.position + shape.headerBits + shape.valuesBefore[k] * f.valueBits +
+    const PackShape& shape = packShape(f.flags);
+    uint64_t at = walk.position + f.headerBits + shape.valuesBefore[k] * f.valueBits +
                   shape.innerBefore[k] * f.pointerBits;
     if (hasValue(child)) {
       walk.key += uint32_t(readSigned(at, f.valueBits)) << f.shift;
@@ -120,20 +140,28 @@ class DeltaDag {
 
   SizeBreakdown size() const;
   void save(ByteWriter& out) const;
+  std::vector<uint32_t> formatCodes() const;
   // Validates every pack reachable from the root: fields inside the structure, widths the writer
   // uses, no value of 0, pointers backwards, children only above the texel level. Throws
   // FormatError.
   static DeltaDag load(ByteReader& in, const MapInfo& map);
 
  private:
-  struct Fields {
-    uint32_t valueBits, shift, pointerBits;
-  };
-  static Fields fields(uint64_t word, const PackShape& shape) {
-    Fields f{0, 0, 0};
+  // The format of the pack whose first bits `word` holds.
+  PackFormat format(uint64_t word) const {
+    const uint32_t index = uint32_t(word & formatMask_);
+    if (index < formats_.size()) return formats_[index];
+    return explicitFormat(word >> formatBits_, formatBits_);
+  }
+  // An explicit format from its first bits, after `indexBits` bits of escape.
+  static PackFormat explicitFormat(uint64_t word, uint32_t indexBits) {
+    PackFormat f;
+    f.flags = uint8_t(word & 0xff);
+    const PackShape& shape = packShape(f.flags);
     uint32_t at = 8;
     if (shape.hasValues) f.valueBits = (word >> 8) & 63, f.shift = (word >> 14) & 31, at = 19;
     if (shape.hasInner) f.pointerBits = (word >> at) & 63;
+    f.headerBits = uint8_t(indexBits + shape.headerBits);
     return f;
   }
   // 64 bits from bit `position` on: the bytes carry 8 bytes of padding past the last bit.
@@ -171,16 +199,20 @@ class DeltaDag {
   MhChild rootKind_ = MhChild::Leaf;  // Leaf (one key for the map) or Full (a pack below)
   uint32_t rootKey_ = 0;
   uint64_t rootPosition_ = 0;
-  std::vector<uint8_t> bytes_;  // bits_ bits, then 8 bytes of padding
+  uint32_t formatBits_ = 0;
+  uint64_t formatMask_ = 0;
+  std::vector<PackFormat> formats_;  // the table, each with headerBits = formatBits_
+  std::vector<uint8_t> bytes_;       // bits_ bits, then 8 bytes of padding
   uint64_t bits_ = 0;
 };
 
 // What the encode step measured, for the build record's counters.
 struct Statistics {
-  uint64_t valuedNodes = 0;   // MH nodes holding a value
-  uint64_t demotedNodes = 0;  // of them, those whose interval held their parent's key
-  uint64_t treePacks = 0;     // inner nodes with a pack left after demotion
-  uint64_t dagPacks = 0;      // distinct packs stored
+  uint64_t valuedNodes = 0;           // MH nodes holding a value
+  uint64_t demotedNodes = 0;          // of them, those whose interval held their parent's key
+  uint64_t treePacks = 0;             // inner nodes with a pack left after demotion
+  uint64_t dagPacks = 0;              // distinct packs stored
+  uint64_t formats = 0, escapes = 0;  // formats in the table, packs whose format is explicit
   uint64_t headerBits = 0, valueBits = 0, pointerBits = 0;
 };
 

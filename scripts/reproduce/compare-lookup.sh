@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Lookup cost of every lossless scheme side by side (issues 5 and 13): ns per query on one thread
-# of `sm32`, `compressed-sm`, `sm-zstd`, `openvdb`, `cpvs`, `cpvs-fast`, `mh`, `mmh` and `dag-mh`,
+# of `sm32`, `compressed-sm`, `sm-zstd`, `openvdb`, `cpvs`, `cpvs-fast`, `mh`, `mmh`, `dag-mh` and
+# `delta-dag`,
 # each at its registry defaults, for point lookups (1×1) and 3×3, 5×5, 9×9 and 17×17 PCF, each
 # over the point lookup, uniform (random) and view queries, with the size beside them, on city,
 # terrain and tangle closed and forest static at 4K², 16K², 64K² up to --max-resolution, with
@@ -18,7 +19,7 @@ up_to_64k=$(capped 64K 4K 4)
 up_to_16k=$(capped 16K 4K 4)
 for build in "city:full closed" "terrain:full closed" "tangle:full closed" "forest:full static"; do
   read -r scene mode <<<"$build"
-  sweep --schemes cpvs,cpvs-fast,mh,mmh,dag-mh,compressed-sm,sm-zstd --scenes "$scene" \
+  sweep --schemes cpvs,cpvs-fast,mh,mmh,dag-mh,delta-dag,compressed-sm,sm-zstd --scenes "$scene" \
     --modes "$mode" --resolutions "$up_to_64k"
   case $scene in
     city:* | terrain:*) small=sm32,openvdb ;;

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Size of every lossless scheme side by side (issue 5): `sm32`, `compressed-sm`, `sm-zstd`,
-# `openvdb`, `cpvs`, `cpvs-fast`, `mh`, `mmh` and `dag-mh`, each at its registry defaults, on city
+# `openvdb`, `cpvs`, `cpvs-fast`, `mh`, `mmh`, `dag-mh` and `delta-dag` (issue 16), each at its registry defaults, on city
 # and terrain, closed and open, 4K² to --max-resolution in MiB, beside the uncompressed float32
 # map (4·R² bytes). Some cells are capped for memory (this machine: 2 cores, 24 GiB, shared; no
 # cell may peak above about 16 GiB): `sm32` up to 16K² (4·R² bytes, which is the analytic row),
-# `openvdb` up to 16K², `mh`, `mmh` and `dag-mh` open
+# `openvdb` up to 16K², `mh`, `mmh`, `dag-mh` and `delta-dag` open
 # up to 8K² (a node per texel); the caps are explained below and in the table. Also plots the
 # same cells (scripts/plot.py) into results/reproduce/compare-size/plots.
 #   scripts/reproduce/compare-size.sh [--max-resolution 256K] [sweep options]
@@ -15,7 +15,7 @@ scenes=city:full,terrain:full
 # Caps (estimates from the records below the cap):
 # - sm32 up to 16K²: the map is 4·R² bytes (4 GiB at 32K², 16 GiB at 64K²), exactly the analytic
 #   row, so larger cells add nothing to a size table.
-# - mh, mmh, dag-mh open up to 8K²: the ground is a point interval of changing depth, so the
+# - mh, mmh, dag-mh, delta-dag open up to 8K²: the ground is a point interval of changing depth, so the
 #   hierarchy keeps about a node per texel (mh 70 MiB at 4K², ×4 per doubling) and mmh's build
 #   peaks at 5.3 GiB at 8K² on city (1.6 GiB at 4K² on terrain, as on city): over 20 GiB at 16K².
 # - openvdb up to 16K²: 3.7 GiB at 16K² on city closed and 4.5 GiB open, ×4.1 per doubling (no
@@ -25,9 +25,9 @@ up_to_16k=$(capped 16K 4K)
 up_to_8k=$(capped 8K 4K)
 sweep --schemes cpvs,cpvs-fast --scenes "$scenes" --modes closed,open \
   --resolutions "$(resolutions 4K)"
-sweep --schemes mh,mmh,dag-mh --scenes "$scenes" --modes closed \
+sweep --schemes mh,mmh,dag-mh,delta-dag --scenes "$scenes" --modes closed \
   --resolutions "$(resolutions 4K)"
-sweep --schemes mh,mmh,dag-mh --scenes "$scenes" --modes open \
+sweep --schemes mh,mmh,dag-mh,delta-dag --scenes "$scenes" --modes open \
   --resolutions "$up_to_8k"
 sweep --schemes sm-zstd --scenes "$scenes" --modes closed,open \
   --resolutions "$(resolutions 4K)"
@@ -37,5 +37,5 @@ sweep --schemes openvdb --scenes "$scenes" --modes closed,open --resolutions "$u
 # The same cells plotted, size and build time against resolution (one PNG pair per scene and
 # mode the records hold), into results/reproduce/compare-size/plots.
 /usr/bin/python3 scripts/plot.py "$records" --out "$out/$table/plots" \
-  --schemes sm32,compressed-sm,sm-zstd,openvdb,cpvs,cpvs-fast,mh,mmh,dag-mh --defaults >/dev/null
+  --schemes sm32,compressed-sm,sm-zstd,openvdb,cpvs,cpvs-fast,mh,mmh,dag-mh,delta-dag --defaults >/dev/null
 tabulate

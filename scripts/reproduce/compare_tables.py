@@ -22,6 +22,7 @@ COMPARE_SCHEMES = [
     ("mh", "Scandolo 2016a, multiresolution hierarchy"),
     ("mmh", "Scandolo 2016b, merged MH, search distance 1000"),
     ("dag-mh", "Scandolo & Eisemann 2021, treelets of 4, chunks of 32"),
+    ("delta-dag", "this framework (issue 16), simplest relative values in a DAG of packs"),
 ]
 COMPARE_BUILDS = [("city", "closed"), ("city", "open"), ("terrain", "closed"),
                   ("terrain", "open")]
@@ -30,14 +31,14 @@ COMPARE_LOOKUP_RESOLUTIONS = [4 * K, 16 * K, 64 * K]
 # compare-size.sh builds these (scheme, scene, mode) only up to a resolution, for memory.
 COMPARE_CAPPED = {
     **{(scheme, s, m): 16 * K for scheme in ("sm32", "openvdb") for s, m in COMPARE_BUILDS},
-    **{(scheme, s, "open"): 8 * K for scheme in ("mh", "mmh", "dag-mh")
+    **{(scheme, s, "open"): 8 * K for scheme in ("mh", "mmh", "dag-mh", "delta-dag")
        for s in ("city", "terrain")},
 }
 COMPARE_CAP_NOTE = (
     "Caps, for memory (2 cores, 24 GiB, shared: no cell may peak above about 16 GiB; those "
     "cells print –), estimated from the records below the cap: `sm32` up to 16K², as it holds "
     "4·R² bytes (16 GiB at 64K²), which is the analytic row. `mh`, `mmh`, "
-    "`dag-mh` open up to 8K²: the ground is a point interval of changing depth, so the hierarchy "
+    "`dag-mh`, `delta-dag` open up to 8K²: the ground is a point interval of changing depth, so the hierarchy "
     "keeps about a node per texel (mh 70 MiB at 4K², ×4 per doubling) and `mmh` peaks at "
     "5.3 GiB at 8K² on city (1.6 GiB at 4K² on terrain, as on city), over 20 GiB at 16K². "
     "`openvdb` up to 16K²: 3.7 GiB at 16K² on city closed and 4.5 GiB open, ×4.1 per doubling "
