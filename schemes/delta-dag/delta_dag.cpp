@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <queue>
 #include <unordered_map>
 
 #include "schemes/interface/splitmix.h"
@@ -26,15 +27,13 @@ std::array<PackShape, 256> makePackShapes() {
   std::array<PackShape, 256> shapes{};
   for (uint32_t flags = 0; flags < 256; ++flags) {
     PackShape& shape = shapes[flags];
-    uint8_t values = 0, inner = 0;
+    uint8_t values = 0;
     for (int k = 0; k < kMhChildren; ++k) {
-      shape.valuesBefore[k] = values, shape.innerBefore[k] = inner;
-      const MhChild kind = MhChild(childFlag(flags, k));
-      values += hasValue(kind);
-      inner += kind == MhChild::Full || kind == MhChild::Empty;
+      shape.valuesBefore[k] = values;
+      values += hasValue(MhChild(childFlag(flags, k)));
+      if (isInner(childFlag(flags, k))) shape.innerMask |= uint8_t(1u << k);
     }
-    shape.hasValues = values != 0, shape.hasInner = inner != 0;
-    shape.headerBits = uint8_t(8 + (shape.hasValues ? 11 : 0) + (shape.hasInner ? 6 : 0));
+    shape.hasValues = values != 0, shape.hasInner = shape.innerMask != 0;
   }
   return shapes;
 }
@@ -93,104 +92,205 @@ int32_t chooseValue(const KeyInterval& interval, uint32_t parent, ValueChoice ch
   return int32_t(value);  // keys are at most +inf's, 0x7f800000: differences fit int32
 }
 
+// The order shared packs are laid out in: the most referenced first, each once the shared packs
+// its private block references are placed (Kahn's topological order with a priority).
+std::vector<uint32_t> sharedOrder(const std::vector<Pack>& packs,
+                                  const std::vector<uint32_t>& references) {
+  const auto isShared = [&](uint32_t id) { return references[id] > 1; };
+  // For each shared pack, the shared packs its private block points to.
+  std::vector<std::vector<uint32_t>> dependents(packs.size());
+  std::vector<uint32_t> waiting(packs.size(), 0);
+  std::vector<uint32_t> needs;
+  const auto collect = [&](auto& self, uint32_t id) -> void {
+    const Pack& pack = packs[id];
+    for (int k = 0; k < kMhChildren; ++k) {
+      if (!isInner(childFlag(pack.flags, k))) continue;
+      const uint32_t child = pack.children[k];
+      if (isShared(child))
+        needs.push_back(child);
+      else
+        self(self, child);
+    }
+  };
+  using Ready = std::pair<uint32_t, uint32_t>;  // references, then the lower id first
+  const auto later = [](const Ready& a, const Ready& b) {
+    return a.first != b.first ? a.first < b.first : a.second > b.second;
+  };
+  std::priority_queue<Ready, std::vector<Ready>, decltype(later)> ready(later);
+  for (uint32_t id = 0; id < packs.size(); ++id) {
+    if (!isShared(id)) continue;
+    needs.clear();
+    collect(collect, id);
+    std::sort(needs.begin(), needs.end());
+    needs.erase(std::unique(needs.begin(), needs.end()), needs.end());
+    for (const uint32_t need : needs) dependents[need].push_back(id);
+    waiting[id] = uint32_t(needs.size());
+    if (needs.empty()) ready.push({references[id], id});
+  }
+  std::vector<uint32_t> order;
+  while (!ready.empty()) {
+    const uint32_t id = ready.top().second;
+    ready.pop();
+    order.push_back(id);
+    for (const uint32_t dependent : dependents[id])
+      if (--waiting[dependent] == 0) ready.push({references[dependent], dependent});
+  }
+  return order;
+}
+
 // The packs written children first, each once: every pointer reaches back, to a pack already
 // placed, so a pack's widths are known when it is written.
 struct Layout {
   BitWriter out;
   uint64_t rootPosition = 0;
   uint32_t formatBits = 0;
-  std::vector<uint32_t> codes;                          // the format table
-  std::unordered_map<uint32_t, uint64_t> formatCounts;  // packs per format code
+  std::vector<uint64_t> codes;                          // the format table
+  std::unordered_map<uint64_t, uint64_t> formatCounts;  // packs per format code
   uint64_t escapes = 0, headerBits = 0, valueBits = 0, pointerBits = 0;
   uint64_t bits() const { return out.position(); }
 };
 
-Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, uint32_t formatBits,
-              std::vector<uint32_t> codes) {
+Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack,
+              const std::vector<uint32_t>& references, const std::vector<uint32_t>& shared,
+              uint32_t formatBits, std::vector<uint64_t> codes) {
   Layout layout;
   layout.formatBits = formatBits;
-  std::unordered_map<uint32_t, uint32_t> indexOf;
-  for (uint32_t c = 0; c < codes.size(); ++c) indexOf.emplace(codes[c], c);
+  // The table's formats by flags and shared mask.
+  std::unordered_map<uint32_t, std::vector<uint32_t>> groups;
+  for (uint32_t c = 0; c < codes.size(); ++c) {
+    const PackFormat g = PackFormat::ofCode(codes[c]);
+    groups[g.flags | g.sharedMask << 8].push_back(c);
+  }
   layout.codes = std::move(codes);
-  const uint32_t escape = uint32_t((uint64_t(1) << formatBits) - 1);
+  for (auto& [key, group] : groups) {
+    const PackShape& shape = packShape(key & 0xff);
+    const uint32_t valued = shape.valuesBefore[3] + hasValue(MhChild(childFlag(key, 3)));
+    const uint32_t sharedCount = uint32_t(std::popcount(key >> 8));
+    const uint32_t relative = uint32_t(std::popcount(uint32_t(shape.innerMask))) - sharedCount;
+    const auto bitsOf = [&](uint32_t c) {
+      const PackFormat g = PackFormat::ofCode(layout.codes[c]);
+      return valued * g.valueBits + relative * g.pointerBits + sharedCount * g.sharedBits;
+    };
+    std::stable_sort(group.begin(), group.end(),
+                     [&](uint32_t a, uint32_t b) { return bitsOf(a) < bitsOf(b); });
+  }
+  const uint64_t escape = (uint64_t(1) << formatBits) - 1;
   BitWriter& out = layout.out;
   std::vector<uint64_t> placed(packs.size(), UINT64_MAX);
   const auto place = [&](auto& self, uint32_t id) -> void {
     const Pack& pack = packs[id];
     const PackShape& shape = packShape(pack.flags);
-    for (int k = 0; k < kMhChildren; ++k)
-      if (isInner(childFlag(pack.flags, k)) && placed[pack.children[k]] == UINT64_MAX)
-        self(self, pack.children[k]);
-    const uint64_t position = out.position();
-    placed[id] = position;
     PackFormat f;
     f.flags = pack.flags;
+    for (int k = 0; k < kMhChildren; ++k) {
+      if (!isInner(childFlag(pack.flags, k))) continue;
+      if (references[pack.children[k]] > 1)
+        f.sharedMask |= uint8_t(1u << k);
+      else if (placed[pack.children[k]] == UINT64_MAX)
+        self(self, pack.children[k]);
+    }
+    const uint64_t position = out.position();
+    placed[id] = position;
     uint32_t shift = 32;
     for (int k = 0; k < kMhChildren; ++k)
       if (hasValue(MhChild(childFlag(pack.flags, k))))
         shift = std::min<uint32_t>(shift, std::countr_zero(uint32_t(pack.values[k])));
     f.shift = uint8_t(shape.hasValues ? shift : 0);
+    std::array<uint64_t, kMhChildren> pointers{};
     for (int k = 0; k < kMhChildren; ++k) {
       const uint32_t kind = childFlag(pack.flags, k);
       if (hasValue(MhChild(kind)))
         f.valueBits = uint8_t(std::max(uint32_t(f.valueBits), signedBits(pack.values[k] >> shift)));
-      if (isInner(kind))
-        f.pointerBits = uint8_t(std::max<uint32_t>(
-            f.pointerBits, uint32_t(std::bit_width(position - placed[pack.children[k]]))));
+      if (!isInner(kind)) continue;
+      const uint64_t target = placed[pack.children[k]];
+      if (target == UINT64_MAX) throw std::logic_error("delta-dag: a shared pack placed late");
+      const bool sharedChild = f.sharedMask >> k & 1;
+      pointers[k] = sharedChild ? target : position - target;
+      uint8_t& bits = sharedChild ? f.sharedBits : f.pointerBits;
+      bits = uint8_t(std::max<uint32_t>({bits, 1u, uint32_t(std::bit_width(pointers[k]))}));
     }
-    if (f.pointerBits > kMaxPointerBits)
+    if (std::max(f.pointerBits, f.sharedBits) > kMaxPointerBits)
       throw std::length_error("delta-dag: a pointer needs more than 57 bits");
     ++layout.formatCounts[f.code()];
-    if (const auto found = indexOf.find(f.code()); found != indexOf.end()) {
-      out.put(found->second, formatBits);
+    // The table's format that holds this pack in the fewest bits: its own, or one of the same
+    // flags and mask whose widths are at least as wide and whose shift is at most as large; an
+    // escape where no table format is cheaper than the explicit one.
+    const auto fieldBits = [&](const PackFormat& g) {
+      uint32_t bits = 0;
+      for (int k = 0; k < kMhChildren; ++k) {
+        const uint32_t kind = childFlag(pack.flags, k);
+        bits += hasValue(MhChild(kind)) ? g.valueBits : 0;
+        bits += isInner(kind) ? (g.sharedMask >> k & 1 ? g.sharedBits : g.pointerBits) : 0;
+      }
+      return bits;
+    };
+    const auto holds = [&](const PackFormat& g) {
+      if (g.shift > f.shift || g.pointerBits < f.pointerBits || g.sharedBits < f.sharedBits)
+        return false;
+      for (int k = 0; k < kMhChildren; ++k)
+        if (hasValue(MhChild(childFlag(pack.flags, k))) &&
+            signedBits(pack.values[k] >> g.shift) > g.valueBits)
+          return false;
+      return true;
+    };
+    PackFormat use = f;
+    uint32_t bestBits = f.explicitBits() + fieldBits(f);
+    int64_t index = -1;
+    // A group is sorted by the bits its formats give the group's packs: the first that holds
+    // this pack is the cheapest.
+    if (const auto group = groups.find(f.flags | f.sharedMask << 8); group != groups.end())
+      for (const uint32_t c : group->second) {
+        const PackFormat g = PackFormat::ofCode(layout.codes[c]);
+        if (fieldBits(g) >= bestBits) break;
+        if (holds(g)) {
+          use = g, index = c;
+          break;
+        }
+      }
+    if (index >= 0) {
+      out.put(uint64_t(index), formatBits);
       layout.headerBits += formatBits;
     } else {
       ++layout.escapes;
       out.put(escape, formatBits);
       out.put(f.flags, 8);
       if (shape.hasValues) out.put(f.valueBits, 6), out.put(f.shift, 5);
-      if (shape.hasInner) out.put(f.pointerBits, 6);
-      layout.headerBits += formatBits + shape.headerBits;
+      if (shape.hasInner) {
+        out.put(f.sharedMask, 4);
+        if (shape.innerMask & ~f.sharedMask) out.put(f.pointerBits, 6);
+        if (f.sharedMask) out.put(f.sharedBits, 6);
+      }
+      layout.headerBits += formatBits + f.explicitBits();
     }
     for (int k = 0; k < kMhChildren; ++k) {
       const uint32_t kind = childFlag(pack.flags, k);
       if (hasValue(MhChild(kind))) {
-        out.put(uint64_t(int64_t(pack.values[k] >> shift)), f.valueBits);
-        layout.valueBits += f.valueBits;
+        out.put(uint64_t(int64_t(pack.values[k] >> use.shift)), use.valueBits);
+        layout.valueBits += use.valueBits;
       }
       if (isInner(kind)) {
-        out.put(position - placed[pack.children[k]], f.pointerBits);
-        layout.pointerBits += f.pointerBits;
+        const uint32_t bits = use.sharedMask >> k & 1 ? use.sharedBits : use.pointerBits;
+        out.put(pointers[k], bits);
+        layout.pointerBits += bits;
       }
     }
   };
-  place(place, rootPack);
+  for (const uint32_t id : shared) place(place, id);
+  if (placed[rootPack] == UINT64_MAX) place(place, rootPack);
   layout.rootPosition = placed[rootPack];
   return layout;
 }
 
-// The table that makes headers smallest for these counts: the most frequent formats, as many as
-// `format bits` index (one index left for the escape), for the best number of bits.
-std::pair<uint32_t, std::vector<uint32_t>> chooseFormats(
-    const std::unordered_map<uint32_t, uint64_t>& counts) {
-  std::vector<std::pair<uint64_t, uint32_t>> byFrequency;
+// A table of 2^b − 1 formats: the most frequent of these counts (one index is the escape).
+std::vector<uint64_t> mostFrequent(const std::unordered_map<uint64_t, uint64_t>& counts,
+                                   uint32_t b) {
+  std::vector<std::pair<uint64_t, uint64_t>> byFrequency;
   for (const auto& [code, count] : counts) byFrequency.push_back({count, code});
   std::sort(byFrequency.begin(), byFrequency.end(), std::greater<>());
-  uint64_t total = 0;
-  for (const auto& entry : byFrequency) total += entry.first;
-  uint64_t bestCost = UINT64_MAX;
-  uint32_t bestBits = 0;
-  for (uint32_t b = 0; b <= kMaxFormatBits; ++b) {
-    const uint64_t entries = std::min<uint64_t>(byFrequency.size(), (uint64_t(1) << b) - 1);
-    uint64_t cost = total * b + entries * 32;
-    for (size_t e = entries; e < byFrequency.size(); ++e)
-      cost += byFrequency[e].first * packShape(byFrequency[e].second).headerBits;
-    if (cost < bestCost) bestCost = cost, bestBits = b;
-  }
-  std::vector<uint32_t> codes;
-  for (size_t e = 0; e < byFrequency.size() && e + 1 < (uint64_t(1) << bestBits); ++e)
+  std::vector<uint64_t> codes;
+  for (size_t e = 0; e < byFrequency.size() && e + 1 < (uint64_t(1) << b); ++e)
     codes.push_back(byFrequency[e].second);
-  return {bestBits, codes};
+  return codes;
 }
 
 }  // namespace
@@ -210,7 +310,7 @@ const PackShape& packShape(uint32_t flags) {
 }
 
 DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
-                   uint32_t formatBits, std::vector<uint32_t> formatCodes,
+                   uint32_t formatBits, std::vector<uint64_t> formatCodes,
                    std::vector<uint8_t> bytes, uint64_t bits)
     : levels_(levels),
       rootKind_(rootKind),
@@ -220,15 +320,21 @@ DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t root
       formatMask_((uint64_t(1) << formatBits) - 1),
       bytes_(std::move(bytes)),
       bits_(bits) {
-  for (const uint32_t code : formatCodes) {
+  for (const uint64_t code : formatCodes) {
     PackFormat f = PackFormat::ofCode(code);
     f.headerBits = uint8_t(formatBits);
     formats_.push_back(f);
   }
 }
 
-std::vector<uint32_t> DeltaDag::formatCodes() const {
-  std::vector<uint32_t> codes;
+uint32_t PackFormat::explicitBits() const {
+  const PackShape& shape = packShape(flags);
+  return 8 + (shape.hasValues ? 11 : 0) +
+         (shape.hasInner ? 4 + (shape.innerMask & ~sharedMask ? 6 : 0) + (sharedMask ? 6 : 0) : 0);
+}
+
+std::vector<uint64_t> DeltaDag::formatCodes() const {
+  std::vector<uint64_t> codes;
   for (const PackFormat& f : formats_) codes.push_back(f.code());
   return codes;
 }
@@ -237,7 +343,7 @@ SizeBreakdown DeltaDag::size() const {
   // The root's kind, key and position and the format bits; the table; the packs' bits (whole
   // bytes; the padding is not part of the structure).
   return {
-      {"root", 1 + 4 + 8 + 1}, {"pack formats", formats_.size() * 4}, {"packs", (bits_ + 7) / 8}};
+      {"root", 1 + 4 + 8 + 1}, {"pack formats", formats_.size() * 8}, {"packs", (bits_ + 7) / 8}};
 }
 
 void DeltaDag::save(ByteWriter& out) const {
@@ -245,7 +351,7 @@ void DeltaDag::save(ByteWriter& out) const {
   out.put<uint32_t>(rootKey_);
   out.put<uint64_t>(rootPosition_);
   out.put<uint8_t>(uint8_t(formatBits_));
-  out.putArray(std::span<const uint32_t>(formatCodes()));
+  out.putArray(std::span<const uint64_t>(formatCodes()));
   out.put<uint64_t>(bits_);
   out.putArray(std::span<const uint8_t>(bytes_.data(), (bits_ + 7) / 8));
 }
@@ -260,8 +366,14 @@ std::string invalidFormat(const PackFormat& f) {
           ? f.valueBits == 0 || f.valueBits > kMaxValueBits || f.valueBits + f.shift > 32
           : f.valueBits != 0 || f.shift != 0)
     return fmt::format("has {}-bit values shifted by {}", f.valueBits, f.shift);
-  if (shape.hasInner ? f.pointerBits == 0 || f.pointerBits > kMaxPointerBits : f.pointerBits != 0)
+  const bool relative = shape.innerMask & ~f.sharedMask;
+  if ((f.sharedMask & ~shape.innerMask) != 0)
+    return fmt::format("marks child {} shared, which is not inner",
+                       std::countr_zero(uint32_t(f.sharedMask & ~shape.innerMask)));
+  if (relative ? f.pointerBits == 0 || f.pointerBits > kMaxPointerBits : f.pointerBits != 0)
     return fmt::format("has {}-bit pointers", f.pointerBits);
+  if (f.sharedMask ? f.sharedBits == 0 || f.sharedBits > kMaxPointerBits : f.sharedBits != 0)
+    return fmt::format("has {}-bit shared addresses", f.sharedBits);
   return {};
 }
 
@@ -286,15 +398,15 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   if (formatBits > kMaxFormatBits)
     throw FormatError(
         fmt::format("delta-dag: {} format bits, at most {}", formatBits, kMaxFormatBits));
-  std::vector<uint32_t> codes = in.getArray<uint32_t>("pack formats");
+  std::vector<uint64_t> codes = in.getArray<uint64_t>("pack formats");
   if (codes.size() > (uint64_t(1) << formatBits) - 1 || (formatBits != 0 && codes.empty()))
     throw FormatError(
         fmt::format("delta-dag: {} pack formats for {} format bits", codes.size(), formatBits));
   for (size_t c = 0; c < codes.size(); ++c)
-    if (codes[c] >> 25 != 0 || !invalidFormat(PackFormat::ofCode(codes[c])).empty())
+    if (codes[c] >> 35 != 0 || !invalidFormat(PackFormat::ofCode(codes[c])).empty())
       throw FormatError(fmt::format(
           "delta-dag: pack format {} ({:#x}) {}", c, codes[c],
-          codes[c] >> 25 ? "has bits past its 25" : invalidFormat(PackFormat::ofCode(codes[c]))));
+          codes[c] >> 35 ? "has bits past its 35" : invalidFormat(PackFormat::ofCode(codes[c]))));
   const uint64_t bits = in.get<uint64_t>("bit count");
   if (bits > uint64_t(in.remaining()) * 8) throw FormatError("delta-dag: packs truncated");
   const uint64_t byteCount = (bits + 7) / 8;
@@ -337,19 +449,22 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     for (int k = 0; k < kMhChildren; ++k) {
       const MhChild kind = MhChild(childFlag(flags, k));
       if (kind == MhChild::None) continue;
+      const bool sharedChild = f.sharedMask >> k & 1;
+      const uint32_t pointerBits = sharedChild ? f.sharedBits : f.pointerBits;
       const uint64_t fieldBits =
-          (hasValue(kind) ? f.valueBits : 0) + (kind != MhChild::Leaf ? f.pointerBits : 0);
+          (hasValue(kind) ? f.valueBits : 0) + (kind != MhChild::Leaf ? pointerBits : 0);
       if (at > bits || bits - at < fieldBits) throw fail(position, "runs past the packs");
       if (hasValue(kind)) {
         if (dag.readSigned(at, f.valueBits) == 0) throw fail(position, "holds a value of 0");
         at += f.valueBits;
       }
       if (kind != MhChild::Leaf) {
-        const uint64_t pointer = dag.readUnsigned(at, f.pointerBits);
-        at += f.pointerBits;
-        if (pointer == 0 || pointer > position)
-          throw fail(position, fmt::format("points {} bits back", pointer));
-        below = std::max(below, self(self, position - pointer, budget - 1));
+        const uint64_t pointer = dag.readUnsigned(at, pointerBits);
+        at += pointerBits;
+        const uint64_t target = sharedChild ? pointer : position - pointer;
+        if (sharedChild ? pointer >= position : pointer == 0 || pointer > position)
+          throw fail(position, fmt::format("points to bit {}, not before it", int64_t(target)));
+        below = std::max(below, self(self, target, budget - 1));
       }
     }
     heights.emplace(position, below + 1);
@@ -434,15 +549,28 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
     return {
         DeltaDag(hierarchy.levels, MhChild::Leaf, rootKey, 0, 0, {}, std::vector<uint8_t>(8, 0), 0),
         stats};
-  // Laid out with explicit formats, then again with the table of the formats found, for as long as
-  // the table shrinks the structure (shorter headers shorten pointers, which changes formats).
-  Layout best = layOut(packs, rootPack, 0, {});
-  for (int round = 0; round < 4; ++round) {
-    const auto [formatBits, codes] = chooseFormats(best.formatCounts);
-    Layout next = layOut(packs, rootPack, formatBits, codes);
-    if (next.bits() + next.codes.size() * 32 >= best.bits() + best.codes.size() * 32) break;
-    best = std::move(next);
-  }
+  // Laid out with explicit formats; then with tables of their most frequent formats, indexed by
+  // 8, 11 and 14 bits; then the best width once more with the formats its layout used (shorter
+  // headers shorten pointers, which changes formats). The smallest layout is kept: a pack's
+  // format may be any of the table's that holds it, so what a table saves is known only by
+  // laying it out.
+  std::vector<uint32_t> references(packs.size(), 0);
+  for (const Pack& pack : packs)
+    for (int k = 0; k < kMhChildren; ++k)
+      if (isInner(childFlag(pack.flags, k))) ++references[pack.children[k]];
+  const std::vector<uint32_t> shared = sharedOrder(packs, references);
+  stats.sharedPacks = shared.size();
+  Layout best = layOut(packs, rootPack, references, shared, 0, {});
+  const auto keepSmaller = [&](Layout next) {
+    if (next.bits() + next.codes.size() * 64 < best.bits() + best.codes.size() * 64)
+      best = std::move(next);
+  };
+  const std::unordered_map<uint64_t, uint64_t> counts = best.formatCounts;
+  for (const uint32_t b : {8u, 11u, 14u})
+    keepSmaller(layOut(packs, rootPack, references, shared, b, mostFrequent(counts, b)));
+  if (best.formatBits != 0)
+    keepSmaller(layOut(packs, rootPack, references, shared, best.formatBits,
+                       mostFrequent(best.formatCounts, best.formatBits)));
   stats.formats = best.codes.size();
   stats.escapes = best.escapes;
   stats.headerBits = best.headerBits, stats.valueBits = best.valueBits;

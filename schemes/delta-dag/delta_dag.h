@@ -13,15 +13,22 @@
 //   flags        8 bits   the kind of child k in bits 2k, 2k+1 (MhChild: none, full, empty, leaf)
 //   value bits   6 bits   } only if some child holds a value (full or leaf): the width of each
 //   shift        5 bits   } value field, and the shift applied to every value of the pack
-//   pointer bits 6 bits   only if some child is inner (full or empty)
+//   shared mask  4 bits   only if some child is inner (full or empty): bit k, child k's pack is
+//                         shared (referenced by more than one pack)
+//   pointer bits 6 bits   if an inner child is not shared: the width of its pointer
+//   shared bits  6 bits   if one is: the width of a shared child's address
 //   then, child by child in k order: its value (signed, value bits) if it holds one, then its
-//   pointer (unsigned, pointer bits) if it is inner.
+//   pointer if it is inner: a distance back from this pack, or a shared child's address.
 // A value v adds v << shift to the depth key its parent's path reconstructs (wrapping uint32, as
 // MMH's key deltas). Packs of a few formats dominate (leaves of one width under a node of one
-// pointer width), so an index of some 6–10 bits replaces a header of up to 25 (SSVDAG's point,
-// Villanueva et al. 2017 §4: spend bits by frequency). A pointer is the distance in bits from the
-// pack back to its child's pack: packs are laid out children first, so every pointer is positive
-// and the DAG has no cycle.
+// pointer width), so an index of some 6–10 bits replaces a header of up to 35 (SSVDAG's point,
+// Villanueva et al. 2017 §4: spend bits by frequency).
+//
+// Packs are laid out children first, so every pointer reaches back and the DAG has no cycle. A
+// pack referenced once lies in its parent's private block, just before it, a short distance back.
+// Shared packs come first, the most referenced earliest (as far as their own shared children let
+// them), so the addresses referenced most often are the smallest: SSVDAG's pointers by reference
+// frequency.
 #pragma once
 
 #include <bit>
@@ -58,21 +65,32 @@ int64_t simplestIn(int64_t lo, int64_t hi);
 // Field widths of a pack, from its flags.
 struct PackShape {
   bool hasValues, hasInner;
-  uint8_t headerBits;  // of an explicit format
-  uint8_t valuesBefore[kMhChildren], innerBefore[kMhChildren];
+  uint8_t innerMask;  // bit k: child k is inner (full or empty)
+  uint8_t valuesBefore[kMhChildren];
 };
 const PackShape& packShape(uint32_t flags);
 
-// A pack's format: its flags and widths, and the bits its header takes.
+// A pack's format: its flags, which inner children are shared, the widths, and the bits its
+// header takes.
 struct PackFormat {
-  uint8_t flags = 0, valueBits = 0, shift = 0, pointerBits = 0, headerBits = 0;
-  // The 25 bits of an explicit format (flags, then the widths the flags call for), which also
-  // name it in the table.
-  uint32_t code() const { return flags | valueBits << 8 | shift << 14 | pointerBits << 19; }
-  static PackFormat ofCode(uint32_t code) {
-    return {uint8_t(code), uint8_t(code >> 8 & 63), uint8_t(code >> 14 & 31),
-            uint8_t(code >> 19 & 63), 0};
+  uint8_t flags = 0, valueBits = 0, shift = 0, sharedMask = 0, pointerBits = 0, sharedBits = 0;
+  uint8_t headerBits = 0;
+  // Its name in the table: 35 bits.
+  uint64_t code() const {
+    return uint64_t(flags) | uint64_t(valueBits) << 8 | uint64_t(shift) << 14 |
+           uint64_t(pointerBits) << 19 | uint64_t(sharedBits) << 25 | uint64_t(sharedMask) << 31;
   }
+  static PackFormat ofCode(uint64_t code) {
+    return {uint8_t(code),
+            uint8_t(code >> 8 & 63),
+            uint8_t(code >> 14 & 31),
+            uint8_t(code >> 31 & 15),
+            uint8_t(code >> 19 & 63),
+            uint8_t(code >> 25 & 63),
+            0};
+  }
+  // The bits of its explicit form: flags, then the fields the flags and the mask call for.
+  uint32_t explicitBits() const;
 };
 
 class DeltaDag {
@@ -88,7 +106,7 @@ class DeltaDag {
 
   DeltaDag() = default;
   DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
-           uint32_t formatBits, std::vector<uint32_t> formatCodes, std::vector<uint8_t> bytes,
+           uint32_t formatBits, std::vector<uint64_t> formatCodes, std::vector<uint8_t> bytes,
            uint64_t bits);
 
   uint32_t resolution() const { return uint32_t(1) << levels_; }
@@ -105,12 +123,17 @@ class DeltaDag {
     if (child == MhChild::None) return false;
     const PackShape& shape = packShape(f.flags);
     uint64_t at = walk.position + f.headerBits + shape.valuesBefore[k] * f.valueBits +
-                  shape.innerBefore[k] * f.pointerBits;
+                  pointerBitsBefore(shape, f, k);
     if (hasValue(child)) {
       walk.key += uint32_t(readSigned(at, f.valueBits)) << f.shift;
       at += f.valueBits;
     }
-    if (child != MhChild::Leaf) walk.position -= readUnsigned(at, f.pointerBits);
+    if (child != MhChild::Leaf) {
+      if (f.sharedMask >> k & 1)
+        walk.position = readUnsigned(at, f.sharedBits);
+      else
+        walk.position -= readUnsigned(at, f.pointerBits);
+    }
     walk.kind = child;
     ++walk.level;
     return true;
@@ -140,7 +163,7 @@ class DeltaDag {
 
   SizeBreakdown size() const;
   void save(ByteWriter& out) const;
-  std::vector<uint32_t> formatCodes() const;
+  std::vector<uint64_t> formatCodes() const;
   // Validates every pack reachable from the root: fields inside the structure, widths the writer
   // uses, no value of 0, pointers backwards, children only above the texel level. Throws
   // FormatError.
@@ -160,9 +183,19 @@ class DeltaDag {
     const PackShape& shape = packShape(f.flags);
     uint32_t at = 8;
     if (shape.hasValues) f.valueBits = (word >> 8) & 63, f.shift = (word >> 14) & 31, at = 19;
-    if (shape.hasInner) f.pointerBits = (word >> at) & 63;
-    f.headerBits = uint8_t(indexBits + shape.headerBits);
+    if (shape.hasInner) {
+      f.sharedMask = uint8_t((word >> at) & 15), at += 4;
+      if (shape.innerMask & ~f.sharedMask) f.pointerBits = (word >> at) & 63, at += 6;
+      if (f.sharedMask) f.sharedBits = (word >> at) & 63, at += 6;
+    }
+    f.headerBits = uint8_t(indexBits + at);
     return f;
+  }
+  // The pointer bits of the inner children before child k.
+  static uint32_t pointerBitsBefore(const PackShape& shape, const PackFormat& f, int k) {
+    const uint32_t before = shape.innerMask & ((1u << k) - 1);
+    return std::popcount(before & ~uint32_t(f.sharedMask)) * f.pointerBits +
+           std::popcount(before & f.sharedMask) * f.sharedBits;
   }
   // 64 bits from bit `position` on: the bytes carry 8 bytes of padding past the last bit.
   uint64_t read64(uint64_t position) const {
@@ -212,6 +245,7 @@ struct Statistics {
   uint64_t demotedNodes = 0;          // of them, those whose interval held their parent's key
   uint64_t treePacks = 0;             // inner nodes with a pack left after demotion
   uint64_t dagPacks = 0;              // distinct packs stored
+  uint64_t sharedPacks = 0;           // of them, those referenced by more than one pack
   uint64_t formats = 0, escapes = 0;  // formats in the table, packs whose format is explicit
   uint64_t headerBits = 0, valueBits = 0, pointerBits = 0;
 };

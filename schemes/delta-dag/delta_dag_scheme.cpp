@@ -23,6 +23,9 @@ std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Optio
   context.count("demoted nodes", s.demotedNodes);
   context.count("tree packs", s.treePacks);
   context.count("dag packs", s.dagPacks);
+  context.count("shared packs", s.sharedPacks);
+  context.count("pack formats", s.formats);
+  context.count("explicit formats", s.escapes);
   context.count("header bits", s.headerBits);
   context.count("value bits", s.valueBits);
   context.count("pointer bits", s.pointerBits);

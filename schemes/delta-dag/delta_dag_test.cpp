@@ -121,6 +121,8 @@ TEST_CASE("repeated subtrees are stored once, and simplest values find more of t
     CHECK(dag.statistics.treePacks == tree.statistics.treePacks);
     // Every copy of the motif repeats the packs below the motif's root at least.
     CHECK(dag.statistics.dagPacks * 2 < dag.statistics.treePacks);
+    CHECK(dag.statistics.sharedPacks > 0);
+    CHECK(tree.statistics.sharedPacks == 0);
     CHECK(dag.dag.bits() < tree.dag.bits());
     CHECK(dag.statistics.dagPacks <= middle.statistics.dagPacks);
   }
