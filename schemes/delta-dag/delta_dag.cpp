@@ -23,21 +23,6 @@ bool isInner(uint32_t kind) {
   return MhChild(kind) == MhChild::Full || MhChild(kind) == MhChild::Empty;
 }
 
-std::array<PackShape, 256> makePackShapes() {
-  std::array<PackShape, 256> shapes{};
-  for (uint32_t flags = 0; flags < 256; ++flags) {
-    PackShape& shape = shapes[flags];
-    uint8_t values = 0;
-    for (int k = 0; k < kMhChildren; ++k) {
-      shape.valuesBefore[k] = values;
-      values += hasValue(MhChild(childFlag(flags, k)));
-      if (isInner(childFlag(flags, k))) shape.innerMask |= uint8_t(1u << k);
-    }
-    shape.hasValues = values != 0, shape.hasInner = shape.innerMask != 0;
-  }
-  return shapes;
-}
-
 // Bits of the two's complement form of v.
 uint32_t signedBits(int64_t v) {
   return uint32_t(std::bit_width(uint64_t(v < 0 ? ~v : v))) + 1;
@@ -150,9 +135,10 @@ struct Layout {
   uint64_t bits() const { return out.position(); }
 };
 
-Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack,
-              const std::vector<uint32_t>& references, const std::vector<uint32_t>& shared,
-              uint32_t formatBits, std::vector<uint64_t> codes) {
+// `absolute`: the packs pointed to by address, laid out first in the order `shared`.
+Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
+              const std::vector<uint32_t>& shared, uint32_t formatBits,
+              std::vector<uint64_t> codes) {
   Layout layout;
   layout.formatBits = formatBits;
   // The table's formats by flags and shared mask.
@@ -177,18 +163,15 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack,
   const uint64_t escape = (uint64_t(1) << formatBits) - 1;
   BitWriter& out = layout.out;
   std::vector<uint64_t> placed(packs.size(), UINT64_MAX);
-  const auto place = [&](auto& self, uint32_t id) -> void {
+  // Writes one pack, whose children are all placed.
+  const auto write = [&](uint32_t id) {
     const Pack& pack = packs[id];
     const PackShape& shape = packShape(pack.flags);
     PackFormat f;
     f.flags = pack.flags;
-    for (int k = 0; k < kMhChildren; ++k) {
-      if (!isInner(childFlag(pack.flags, k))) continue;
-      if (references[pack.children[k]] > 1)
+    for (int k = 0; k < kMhChildren; ++k)
+      if (isInner(childFlag(pack.flags, k)) && absolute[pack.children[k]])
         f.sharedMask |= uint8_t(1u << k);
-      else if (placed[pack.children[k]] == UINT64_MAX)
-        self(self, pack.children[k]);
-    }
     const uint64_t position = out.position();
     placed[id] = position;
     uint32_t shift = 32;
@@ -275,6 +258,20 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack,
       }
     }
   };
+  const auto privateChildren = [&](uint32_t id, auto&& visit) {
+    const Pack& pack = packs[id];
+    for (int k = 0; k < kMhChildren; ++k)
+      if (isInner(childFlag(pack.flags, k)) && !absolute[pack.children[k]] &&
+          placed[pack.children[k]] == UINT64_MAX)
+        visit(pack.children[k]);
+  };
+  // Children first, depth first.
+  const auto place = [&](auto& self, uint32_t id) -> void {
+    privateChildren(id, [&](uint32_t child) {
+      if (placed[child] == UINT64_MAX) self(self, child);
+    });
+    write(id);
+  };
   for (const uint32_t id : shared) place(place, id);
   if (placed[rootPack] == UINT64_MAX) place(place, rootPack);
   layout.rootPosition = placed[rootPack];
@@ -304,14 +301,9 @@ int64_t simplestIn(int64_t lo, int64_t hi) {
   return int64_t(uint64_t(hi) & ~((uint64_t(1) << t) - 1));
 }
 
-const PackShape& packShape(uint32_t flags) {
-  static const std::array<PackShape, 256> shapes = makePackShapes();
-  return shapes[flags & 0xff];
-}
-
 DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
                    uint32_t formatBits, std::vector<uint64_t> formatCodes,
-                   std::vector<uint8_t> bytes, uint64_t bits)
+                   std::vector<uint8_t> bytes, uint64_t bits, bool validated)
     : levels_(levels),
       rootKind_(rootKind),
       rootKey_(rootKey),
@@ -325,6 +317,24 @@ DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t root
     f.headerBits = uint8_t(formatBits);
     formats_.push_back(f);
   }
+  if (validated) buildSkipTable();
+}
+
+void DeltaDag::buildSkipTable() {
+  skipLevel_ = 0;
+  while (skipLevel_ < levels_ &&
+         (uint64_t(sizeof(Walk)) << (2 * (skipLevel_ + 1))) <= (bits_ / 8) / 64)
+    ++skipLevel_;
+  const uint32_t side = uint32_t(1) << skipLevel_;
+  skip_.assign(size_t(side) * side, rootWalk());
+  for (uint32_t y = 0; y < side; ++y)
+    for (uint32_t x = 0; x < side; ++x) {
+      const uint32_t i = x << (levels_ - skipLevel_), j = y << (levels_ - skipLevel_);
+      Walk& walk = skip_[size_t(y) * side + x];
+      while (walk.kind != MhChild::Leaf && walk.level < skipLevel_ &&
+             step(walk, mhChildIndex(i, j, levels_ - walk.level - 1))) {
+      }
+    }
 }
 
 uint32_t PackFormat::explicitBits() const {
@@ -342,8 +352,10 @@ std::vector<uint64_t> DeltaDag::formatCodes() const {
 SizeBreakdown DeltaDag::size() const {
   // The root's kind, key and position and the format bits; the table; the packs' bits (whole
   // bytes; the padding is not part of the structure).
-  return {
-      {"root", 1 + 4 + 8 + 1}, {"pack formats", formats_.size() * 8}, {"packs", (bits_ + 7) / 8}};
+  return {{"root", 1 + 4 + 8 + 1},
+          {"pack formats", formats_.size() * 8},
+          {"packs", (bits_ + 7) / 8},
+          {"skip table", skip_.size() * sizeof(Walk)}};
 }
 
 void DeltaDag::save(ByteWriter& out) const {
@@ -417,8 +429,11 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   if (rootKind == MhChild::Leaf && (rootPosition != 0 || bits != 0 || formatBits != 0))
     throw FormatError("delta-dag: a leaf root with packs");
   DeltaDag dag(levels, rootKind, rootKey, rootPosition, formatBits, std::move(codes),
-               std::move(bytes), bits);
-  if (rootKind == MhChild::Leaf) return dag;
+               std::move(bytes), bits, false);
+  if (rootKind == MhChild::Leaf) {
+    dag.buildSkipTable();
+    return dag;
+  }
 
   // Each pack's height (levels of packs from it down, itself included) once: a pack reached at
   // level l needs height ≤ levels − l. The budget bounds the recursion by the levels, however
@@ -471,6 +486,7 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     return below + 1;
   };
   height(height, rootPosition, levels);
+  dag.buildSkipTable();
   return dag;
 }
 
@@ -500,9 +516,9 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   const uint32_t rootKey = keys[root];
   keys = {};
 
-  // Bottom-up: each inner node's pack, found among those stored or stored. A child whose value is
-  // 0 (its interval held its parent's key) needs none: a leaf becomes nothing, a full node empty.
-  // An inner child left without a pack is then a leaf or nothing.
+  // Bottom-up: each inner node's pack, found among those stored or stored. No value is 0: the MH
+  // stores a child only if its interval misses its parent's, which holds the parent's key (the
+  // largest group of intersecting children moves up, SBE16a), and the loader refuses a 0.
   std::vector<uint32_t> packOf(nodes.size(), kNoPack);
   std::vector<Pack> packs;
   HashConsIndex index;
@@ -510,28 +526,20 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
     const MhNode& node = nodes[n];
     if (!node.hasChildren()) continue;
     Pack pack;
+    pack.flags = node.childFlags;
     uint32_t child = node.firstChild;
     for (int k = 0; k < kMhChildren; ++k) {
-      MhChild kind = node.child(k);
+      const MhChild kind = node.child(k);
       if (kind == MhChild::None) continue;
       if (hasValue(kind)) {
         ++stats.valuedNodes;
-        if (values[child] == 0) {
-          ++stats.demotedNodes;
-          kind = kind == MhChild::Leaf ? MhChild::None : MhChild::Empty;
-        }
+        if (values[child] == 0)
+          throw std::logic_error("delta-dag: a stored node's interval holds its parent's key");
+        pack.values[k] = values[child];
       }
-      if (kind == MhChild::Full || kind == MhChild::Empty) {
-        if (packOf[child] == kNoPack)
-          kind = kind == MhChild::Full ? MhChild::Leaf : MhChild::None;
-        else
-          pack.children[k] = packOf[child];
-      }
-      if (hasValue(kind)) pack.values[k] = values[child];
-      pack.flags |= uint8_t(uint32_t(kind) << (2 * k));
+      if (isInner(uint32_t(kind))) pack.children[k] = packOf[child];
       ++child;
     }
-    if (pack.flags == 0) continue;
     ++stats.treePacks;
     const auto [id, added] =
         options.sharing
@@ -558,18 +566,25 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   for (const Pack& pack : packs)
     for (int k = 0; k < kMhChildren; ++k)
       if (isInner(childFlag(pack.flags, k))) ++references[pack.children[k]];
-  const std::vector<uint32_t> shared = sharedOrder(packs, references);
-  stats.sharedPacks = shared.size();
-  Layout best = layOut(packs, rootPack, references, shared, 0, {});
+  std::vector<bool> absolute(packs.size(), false);
+  std::vector<uint32_t> shared;
+  if (options.sharedAddresses) {
+    shared = sharedOrder(packs, references);
+    for (const uint32_t id : shared) absolute[id] = true;
+  }
+  stats.sharedPacks = uint64_t(std::count_if(references.begin(), references.end(),
+                                             [](uint32_t count) { return count > 1; }));
+  Layout best = layOut(packs, rootPack, absolute, shared, 0, {});
   const auto keepSmaller = [&](Layout next) {
     if (next.bits() + next.codes.size() * 64 < best.bits() + best.codes.size() * 64)
       best = std::move(next);
   };
   const std::unordered_map<uint64_t, uint64_t> counts = best.formatCounts;
   for (const uint32_t b : {8u, 11u, 14u})
-    keepSmaller(layOut(packs, rootPack, references, shared, b, mostFrequent(counts, b)));
+    if (options.formatTable)
+      keepSmaller(layOut(packs, rootPack, absolute, shared, b, mostFrequent(counts, b)));
   if (best.formatBits != 0)
-    keepSmaller(layOut(packs, rootPack, references, shared, best.formatBits,
+    keepSmaller(layOut(packs, rootPack, absolute, shared, best.formatBits,
                        mostFrequent(best.formatCounts, best.formatBits)));
   stats.formats = best.codes.size();
   stats.escapes = best.escapes;

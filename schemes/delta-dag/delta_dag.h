@@ -31,6 +31,7 @@
 // frequency.
 #pragma once
 
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -53,9 +54,12 @@ enum class ValueChoice : uint8_t {
   Middle,
 };
 
+// Each direction can be switched off, so that its effect is measured alone (the ablation).
 struct Options {
   ValueChoice values = ValueChoice::Simplest;
-  bool sharing = true;  // hash-cons equal packs; false stores the tree (ablation)
+  bool sharing = true;          // hash-cons equal packs; false stores the tree
+  bool sharedAddresses = true;  // shared packs first, by absolute address; false: all relative
+  bool formatTable = true;      // a table of frequent formats; false: every format explicit
 };
 
 // The number a ValueChoice::Simplest value takes in [lo, hi] (lo ≤ hi): 0 if the interval holds
@@ -68,7 +72,26 @@ struct PackShape {
   uint8_t innerMask;  // bit k: child k is inner (full or empty)
   uint8_t valuesBefore[kMhChildren];
 };
-const PackShape& packShape(uint32_t flags);
+constexpr std::array<PackShape, 256> makePackShapes() {
+  std::array<PackShape, 256> shapes{};
+  for (uint32_t flags = 0; flags < 256; ++flags) {
+    PackShape& shape = shapes[flags];
+    uint8_t values = 0;
+    for (int k = 0; k < kMhChildren; ++k) {
+      const uint32_t kind = childFlag(flags, k);
+      shape.valuesBefore[k] = values;
+      values += kind == uint32_t(MhChild::Full) || kind == uint32_t(MhChild::Leaf);
+      if (kind == uint32_t(MhChild::Full) || kind == uint32_t(MhChild::Empty))
+        shape.innerMask |= uint8_t(1u << k);
+    }
+    shape.hasValues = values != 0, shape.hasInner = shape.innerMask != 0;
+  }
+  return shapes;
+}
+inline constexpr std::array<PackShape, 256> kPackShapes = makePackShapes();
+inline const PackShape& packShape(uint32_t flags) {
+  return kPackShapes[flags & 0xff];
+}
 
 // A pack's format: its flags, which inner children are shared, the widths, and the bits its
 // header takes.
@@ -107,7 +130,7 @@ class DeltaDag {
   DeltaDag() = default;
   DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
            uint32_t formatBits, std::vector<uint64_t> formatCodes, std::vector<uint8_t> bytes,
-           uint64_t bits);
+           uint64_t bits, bool validated = true);
 
   uint32_t resolution() const { return uint32_t(1) << levels_; }
   int levels() const { return levels_; }
@@ -124,23 +147,31 @@ class DeltaDag {
     const PackShape& shape = packShape(f.flags);
     uint64_t at = walk.position + f.headerBits + shape.valuesBefore[k] * f.valueBits +
                   pointerBitsBefore(shape, f, k);
+    // One read holds the value and the pointer where their widths fit 57 bits together.
+    const bool shared = f.sharedMask >> k & 1;
+    const uint32_t pointerBits = shared ? f.sharedBits : f.pointerBits;
+    uint64_t field = read64(at);
     if (hasValue(child)) {
-      walk.key += uint32_t(readSigned(at, f.valueBits)) << f.shift;
-      at += f.valueBits;
+      walk.key += uint32_t(int64_t(field << (64 - f.valueBits)) >> (64 - f.valueBits)) << f.shift;
+      field = f.valueBits + pointerBits <= 57 ? field >> f.valueBits : read64(at + f.valueBits);
     }
     if (child != MhChild::Leaf) {
-      if (f.sharedMask >> k & 1)
-        walk.position = readUnsigned(at, f.sharedBits);
-      else
-        walk.position -= readUnsigned(at, f.pointerBits);
+      const uint64_t pointer = field & ((uint64_t(1) << pointerBits) - 1);
+      walk.position = shared ? pointer : walk.position - pointer;
     }
     walk.kind = child;
     ++walk.level;
     return true;
   }
 
+  // Where a walk to texel (i, j) stands at the skip level (or above it, where it ended).
+  const Walk& skipWalk(uint32_t i, uint32_t j) const {
+    const uint32_t shift = uint32_t(levels_ - skipLevel_);
+    return skip_[(size_t(j >> shift) << skipLevel_) + (i >> shift)];
+  }
+
   uint32_t texelKey(uint32_t i, uint32_t j) const {
-    Walk walk = rootWalk();
+    Walk walk = skipWalk(i, j);
     while (walk.kind != MhChild::Leaf && step(walk, mhChildIndex(i, j, levels_ - walk.level - 1))) {
     }
     return walk.key;
@@ -152,7 +183,7 @@ class DeltaDag {
   template <class Visit>
   void forEachKeyBlock(const TexelRect& rect, Visit&& visit) const {
     const int common = levels_ - std::bit_width((rect.i0 ^ rect.i1) | (rect.j0 ^ rect.j1));
-    Walk walk = rootWalk();
+    Walk walk = common >= skipLevel_ ? skipWalk(rect.i0, rect.j0) : rootWalk();
     while (walk.kind != MhChild::Leaf && walk.level < common)
       if (!step(walk, mhChildIndex(rect.i0, rect.j0, levels_ - walk.level - 1)))
         return visit(walk.key, rect.texels());
@@ -228,7 +259,14 @@ class DeltaDag {
     }
   }
 
+  // DAG-MH's skip list (Scandolo & Eisemann 2021 §3.4), derived from the packs: the walk to
+  // every square of the skip level, row by row, so that a lookup starts there. The level is the
+  // deepest whose table takes at most 1/64 of the packs' bytes.
+  void buildSkipTable();
+
   int levels_ = 0;
+  int skipLevel_ = 0;
+  std::vector<Walk> skip_;
   MhChild rootKind_ = MhChild::Leaf;  // Leaf (one key for the map) or Full (a pack below)
   uint32_t rootKey_ = 0;
   uint64_t rootPosition_ = 0;
@@ -242,7 +280,6 @@ class DeltaDag {
 // What the encode step measured, for the build record's counters.
 struct Statistics {
   uint64_t valuedNodes = 0;           // MH nodes holding a value
-  uint64_t demotedNodes = 0;          // of them, those whose interval held their parent's key
   uint64_t treePacks = 0;             // inner nodes with a pack left after demotion
   uint64_t dagPacks = 0;              // distinct packs stored
   uint64_t sharedPacks = 0;           // of them, those referenced by more than one pack

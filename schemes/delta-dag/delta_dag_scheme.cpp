@@ -11,7 +11,8 @@ using delta_dag::ValueChoice;
 
 Options optionsOf(const ParamValues& params) {
   return {params.choice("values") == "middle" ? ValueChoice::Middle : ValueChoice::Simplest,
-          params.choice("sharing") == "dag"};
+          params.choice("sharing") == "dag", params.choice("addresses") == "shared",
+          params.choice("formats") == "table"};
 }
 
 std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Options& options,
@@ -20,7 +21,6 @@ std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Optio
   delta_dag::Encoded encoded = delta_dag::encode(std::move(hierarchy), options);
   const delta_dag::Statistics& s = encoded.statistics;
   context.count("valued nodes", s.valuedNodes);
-  context.count("demoted nodes", s.demotedNodes);
   context.count("tree packs", s.treePacks);
   context.count("dag packs", s.dagPacks);
   context.count("shared packs", s.sharedPacks);
@@ -51,7 +51,16 @@ SchemeInfo deltaDag() {
       ParamSpec::choice("sharing",
                         "dag stores each distinct sibling pack once (hash-consing over the whole "
                         "map), tree every pack where it lies",
-                        "dag", {"dag", "tree"}, {"dag", "tree"})};
+                        "dag", {"dag", "tree"}, {"dag", "tree"}),
+      ParamSpec::choice("addresses",
+                        "shared lays packs referenced more than once out first, the most "
+                        "referenced earliest, and points to them by address; relative points to "
+                        "every child by its distance back (SSVDAG: pointers by frequency)",
+                        "shared", {"shared", "relative"}, {"shared", "relative"}),
+      ParamSpec::choice("formats",
+                        "table indexes the most frequent pack formats (flags and field widths); "
+                        "explicit writes every pack's format in full",
+                        "table", {"table", "explicit"}, {"table", "explicit"})};
   setMhBuilds(info, {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
                        return [options = optionsOf(params)](MultiresHierarchy hierarchy,
                                                             BuildContext& context) {
