@@ -4,13 +4,11 @@
 
 #include <algorithm>
 #include <array>
-#include <limits>
 #include <queue>
 #include <unordered_map>
 
 #include "schemes/interface/splitmix.h"
 #include "schemes/shared/hash_cons.h"
-#include "schemes/shared/mh_parts.h"
 
 namespace sb::delta_dag {
 namespace {
