@@ -2,7 +2,7 @@
 // relative to the parent (SBE16b's idea), chosen so that equal subtrees become equal bit for bit
 // and are shared across the whole map by hash-consing (as DAG-MH shares topology, Scandolo &
 // Eisemann 2021 §3.1), and stored with bit widths fitted to each pack (SSVDAG's variable pointer
-// widths, Villanueva et al. 2017 §4).
+// widths, Villanueva et al. 2017).
 //
 // A pack is the four children of one inner node. Its header is its *format*: its flags and field
 // widths. The structure keeps a table of the most frequent formats, and a pack begins with
@@ -21,8 +21,8 @@
 //   pointer if it is inner: a distance back from this pack, or a shared child's address.
 // A value v adds v << shift to the depth key its parent's path reconstructs (wrapping uint32, as
 // MMH's key deltas). Packs of a few formats dominate (leaves of one width under a node of one
-// pointer width), so an index of some 6–10 bits replaces a header of up to 35 (SSVDAG's point,
-// Villanueva et al. 2017 §4: spend bits by frequency).
+// pointer width), so an index of 8 to 14 bits replaces a header of up to 35 (SSVDAG's point,
+// Villanueva et al. 2017: spend bits by frequency).
 //
 // Packs are laid out children first, so every pointer reaches back and the DAG has no cycle. A
 // pack referenced once lies in its parent's private block, just before it, a short distance back.
@@ -259,7 +259,7 @@ class DeltaDag {
     }
   }
 
-  // DAG-MH's skip list (Scandolo & Eisemann 2021 §3.4), derived from the packs: the walk to
+  // DAG-MH's skip list (Scandolo & Eisemann 2021 §3.7), derived from the packs: the walk to
   // every square of the skip level, row by row, so that a lookup starts there. The level is the
   // deepest whose table takes at most 1/64 of the packs' bytes.
   void buildSkipTable();
