@@ -514,9 +514,11 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   const uint32_t rootKey = keys[root];
   keys = {};
 
-  // Bottom-up: each inner node's pack, found among those stored or stored. No value is 0: the MH
-  // stores a child only if its interval misses its parent's, which holds the parent's key (the
-  // largest group of intersecting children moves up, SBE16a), and the loader refuses a 0.
+  // Bottom-up: each inner node's pack, found among those stored or stored. A whole build's MH
+  // stores a child only where its interval misses its parent's, which holds the parent's key, so
+  // no value is 0; a hierarchy merged from crafted part files may break that rule (fuzzing found
+  // one). A child whose value is 0 then needs none (a leaf becomes nothing, a full node empty),
+  // and an inner child left without a pack becomes a leaf or nothing: the loader refuses a 0.
   std::vector<uint32_t> packOf(nodes.size(), kNoPack);
   std::vector<Pack> packs;
   HashConsIndex index;
@@ -524,20 +526,22 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
     const MhNode& node = nodes[n];
     if (!node.hasChildren()) continue;
     Pack pack;
-    pack.flags = node.childFlags;
     uint32_t child = node.firstChild;
     for (int k = 0; k < kMhChildren; ++k) {
-      const MhChild kind = node.child(k);
+      MhChild kind = node.child(k);
       if (kind == MhChild::None) continue;
       if (hasValue(kind)) {
         ++stats.valuedNodes;
-        if (values[child] == 0)
-          throw std::logic_error("delta-dag: a stored node's interval holds its parent's key");
-        pack.values[k] = values[child];
+        if (values[child] == 0) kind = kind == MhChild::Leaf ? MhChild::None : MhChild::Empty;
       }
+      if (isInner(uint32_t(kind)) && packOf[child] == kNoPack)
+        kind = kind == MhChild::Full ? MhChild::Leaf : MhChild::None;
+      if (hasValue(kind)) pack.values[k] = values[child];
       if (isInner(uint32_t(kind))) pack.children[k] = packOf[child];
+      pack.flags |= uint8_t(uint32_t(kind) << (2 * k));
       ++child;
     }
+    if (pack.flags == 0) continue;
     ++stats.treePacks;
     const auto [id, added] =
         options.sharing
