@@ -1,0 +1,94 @@
+// delta-dag's packs and how they are laid out as bits (delta_dag.h has the layout itself): the
+// order of shared packs, the writing of each pack with its format, and the table of formats. The
+// encode step (delta_dag.cpp) chooses the values and finds the packs; this file writes them.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "schemes/delta-dag/delta_dag.h"
+#include "schemes/interface/splitmix.h"
+
+namespace sb::delta_dag {
+
+constexpr uint32_t kMaxValueBits = 32, kMaxPointerBits = 57;  // what read64 reaches
+constexpr uint32_t kMaxFormatBits = 16;
+
+inline bool isInner(uint32_t kind) {
+  return MhChild(kind) == MhChild::Full || MhChild(kind) == MhChild::Empty;
+}
+
+// Bits of the two's complement form of v.
+inline uint32_t signedBits(int64_t v) {
+  return uint32_t(std::bit_width(uint64_t(v < 0 ? ~v : v))) + 1;
+}
+
+// The children of one inner node after the values are chosen: what hash-consing compares.
+struct Pack {
+  uint8_t flags = 0;
+  std::array<int32_t, kMhChildren> values{};     // key delta of a child holding a value
+  std::array<uint32_t, kMhChildren> children{};  // pack of an inner child
+
+  bool operator==(const Pack&) const = default;
+  uint64_t hash() const {
+    uint64_t h = mixBits(flags);
+    for (int k = 0; k < kMhChildren; ++k)
+      h = mixBits(h ^ (uint64_t(uint32_t(values[k])) << 32 | children[k]));
+    return h;
+  }
+};
+
+// Appends fields of up to 57 bits to a little-endian bit stream.
+class BitWriter {
+ public:
+  uint64_t position() const { return bits_; }
+  void put(uint64_t value, uint32_t bits) {
+    if (bits == 0) return;
+    value &= (uint64_t(1) << bits) - 1;
+    const uint32_t offset = uint32_t(bits_ & 63);
+    words_.resize((bits_ + bits + 63) / 64, 0);
+    words_[bits_ >> 6] |= value << offset;
+    if (offset + bits > 64) words_[(bits_ >> 6) + 1] |= value >> (64 - offset);
+    bits_ += bits;
+  }
+  // The bytes of the stream, then 8 bytes of padding (DeltaDag::read64 reads past the end).
+  std::vector<uint8_t> release() const {
+    std::vector<uint8_t> bytes((bits_ + 7) / 8 + 8, 0);
+    for (uint64_t b = 0; b < (bits_ + 7) / 8; ++b)
+      bytes[b] = uint8_t(words_[b >> 3] >> (8 * (b & 7)));
+    return bytes;
+  }
+
+ private:
+  std::vector<uint64_t> words_;
+  uint64_t bits_ = 0;
+};
+
+// The packs written children first, each once: every pointer reaches back, to a pack already
+// placed, so a pack's widths are known when it is written.
+struct Layout {
+  BitWriter out;
+  uint64_t rootPosition = 0;
+  uint32_t formatBits = 0;
+  std::vector<uint64_t> codes;                          // the format table
+  std::unordered_map<uint64_t, uint64_t> formatCounts;  // packs per format code
+  uint64_t escapes = 0, headerBits = 0, valueBits = 0, pointerBits = 0;
+  uint64_t bits() const { return out.position(); }
+};
+
+// The order shared packs are laid out in: the most referenced first, each once the shared packs
+// its private block references are placed.
+std::vector<uint32_t> sharedOrder(const std::vector<Pack>& packs,
+                                  const std::vector<uint32_t>& references);
+// The packs of the DAG under `rootPack`, children first; `absolute`: the packs pointed to by
+// address, laid out first in the order `shared`; a table of `codes` indexed by `formatBits`.
+Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
+              const std::vector<uint32_t>& shared, uint32_t formatBits,
+              std::vector<uint64_t> codes);
+// A table of 2^b − 1 formats: the most frequent of these counts (one index is the escape).
+std::vector<uint64_t> mostFrequent(const std::unordered_map<uint64_t, uint64_t>& counts,
+                                   uint32_t b);
+
+}  // namespace sb::delta_dag
