@@ -43,11 +43,7 @@ DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t root
       formatMask_((uint64_t(1) << formatBits) - 1),
       bytes_(std::move(bytes)),
       bits_(bits) {
-  for (const uint64_t code : formatCodes) {
-    PackFormat f = PackFormat::ofCode(code);
-    f.headerBits = uint8_t(formatBits);
-    formats_.push_back(f);
-  }
+  for (const uint64_t code : formatCodes) formats_.push_back(PackFormat::ofCode(code, formatBits));
   if (validated) buildSkipTable();
 }
 
@@ -71,7 +67,7 @@ void DeltaDag::buildSkipTable() {
 uint32_t PackFormat::explicitBits() const {
   const PackShape& shape = packShape(flags);
   return 8 + (shape.hasValues ? 11 : 0) +
-         (shape.hasInner ? 4 + (shape.innerMask & ~sharedMask ? 6 : 0) + (sharedMask ? 6 : 0) : 0);
+         (shape.hasInner ? 4 + (hasPointerWidth() ? 6 : 0) + (sharedMask ? 6 : 0) : 0);
 }
 
 std::vector<uint64_t> DeltaDag::formatCodes() const {
@@ -109,11 +105,11 @@ std::string invalidFormat(const PackFormat& f) {
           ? f.valueBits == 0 || f.valueBits > kMaxValueBits || f.valueBits + f.shift > 32
           : f.valueBits != 0 || f.shift != 0)
     return fmt::format("has {}-bit values shifted by {}", f.valueBits, f.shift);
-  const bool relative = shape.innerMask & ~f.sharedMask;
   if ((f.sharedMask & ~shape.innerMask) != 0)
     return fmt::format("marks child {} shared, which is not inner",
                        std::countr_zero(uint32_t(f.sharedMask & ~shape.innerMask)));
-  if (relative ? f.pointerBits == 0 || f.pointerBits > kMaxPointerBits : f.pointerBits != 0)
+  if (f.hasPointerWidth() ? f.pointerBits == 0 || f.pointerBits > kMaxPointerBits
+                          : f.pointerBits != 0)
     return fmt::format("has {}-bit pointers", f.pointerBits);
   if (f.sharedMask ? f.sharedBits == 0 || f.sharedBits > kMaxPointerBits : f.sharedBits != 0)
     return fmt::format("has {}-bit shared addresses", f.sharedBits);
@@ -146,10 +142,11 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     throw FormatError(
         fmt::format("delta-dag: {} pack formats for {} format bits", codes.size(), formatBits));
   for (size_t c = 0; c < codes.size(); ++c)
-    if (codes[c] >> 35 != 0 || !invalidFormat(PackFormat::ofCode(codes[c])).empty())
-      throw FormatError(fmt::format(
-          "delta-dag: pack format {} ({:#x}) {}", c, codes[c],
-          codes[c] >> 35 ? "has bits past its 35" : invalidFormat(PackFormat::ofCode(codes[c]))));
+    if (codes[c] >> 35 != 0 || !invalidFormat(PackFormat::ofCode(codes[c], 0)).empty())
+      throw FormatError(fmt::format("delta-dag: pack format {} ({:#x}) {}", c, codes[c],
+                                    codes[c] >> 35
+                                        ? "has bits past its 35"
+                                        : invalidFormat(PackFormat::ofCode(codes[c], 0))));
   const uint64_t bits = in.get<uint64_t>("bit count");
   if (bits > uint64_t(in.remaining()) * 8) throw FormatError("delta-dag: packs truncated");
   const uint64_t byteCount = (bits + 7) / 8;
@@ -189,29 +186,19 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
                  fmt::format("has format {}, of {}", word & dag.formatMask_, dag.formats_.size()));
     if (const std::string invalid = invalidFormat(f); !invalid.empty())
       throw fail(position, invalid);
-    const uint32_t flags = f.flags;
-    uint64_t at = position + f.headerBits;
+    if (f.bits > bits - position) throw fail(position, "runs past the packs");
     int below = 0;
     for (int k = 0; k < kMhChildren; ++k) {
-      const MhChild kind = MhChild(childFlag(flags, k));
-      if (kind == MhChild::None) continue;
-      const bool sharedChild = f.sharedMask >> k & 1;
-      const uint32_t pointerBits = sharedChild ? f.sharedBits : f.pointerBits;
-      const uint64_t fieldBits =
-          (hasValue(kind) ? f.valueBits : 0) + (kind != MhChild::Leaf ? pointerBits : 0);
-      if (at > bits || bits - at < fieldBits) throw fail(position, "runs past the packs");
-      if (hasValue(kind)) {
-        if (dag.readSigned(at, f.valueBits) == 0) throw fail(position, "holds a value of 0");
-        at += f.valueBits;
-      }
-      if (kind != MhChild::Leaf) {
-        const uint64_t pointer = dag.readUnsigned(at, pointerBits);
-        at += pointerBits;
-        const uint64_t target = sharedChild ? pointer : position - pointer;
-        if (sharedChild ? pointer >= position : pointer == 0 || pointer > position)
-          throw fail(position, fmt::format("points to bit {}, not before it", int64_t(target)));
-        below = std::max(below, self(self, target, budget - 1));
-      }
+      const MhChild kind = MhChild(childFlag(f.flags, k));
+      const uint64_t at = position + f.fieldAt[k];
+      if (hasValue(kind) && dag.readSigned(at, f.valueBits) == 0)
+        throw fail(position, "holds a value of 0");
+      if (!isInner(uint32_t(kind))) continue;
+      const uint64_t pointer =
+          dag.readUnsigned(at + (hasValue(kind) ? f.valueBits : 0), f.pointerWidth[k]);
+      // Children may lie anywhere: the budget stops a cycle.
+      const uint64_t target = f.sharedMask >> k & 1 ? pointer : position + f.bits + pointer;
+      below = std::max(below, self(self, target, budget - 1));
     }
     heights.emplace(position, below + 1);
     return below + 1;
@@ -301,12 +288,9 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   for (const Pack& pack : packs)
     for (int k = 0; k < kMhChildren; ++k)
       if (isInner(childFlag(pack.flags, k))) ++references[pack.children[k]];
+  const std::vector<uint32_t> shared = sharedOrder(packs, references, options.byReferences);
   std::vector<bool> absolute(packs.size(), false);
-  std::vector<uint32_t> shared;
-  if (options.sharedAddresses) {
-    shared = sharedOrder(packs, references);
-    for (const uint32_t id : shared) absolute[id] = true;
-  }
+  for (const uint32_t id : shared) absolute[id] = true;
   stats.sharedPacks = uint64_t(std::count_if(references.begin(), references.end(),
                                              [](uint32_t count) { return count > 1; }));
   Layout best = layOut(packs, rootPack, absolute, shared, 0, {});

@@ -15,20 +15,24 @@
 //   shift        5 bits   } value field, and the shift applied to every value of the pack
 //   shared mask  4 bits   only if some child is inner (full or empty): bit k, child k's pack is
 //                         shared (referenced by more than one pack)
-//   pointer bits 6 bits   if an inner child is not shared: the width of its pointer
-//   shared bits  6 bits   if one is: the width of a shared child's address
+//   pointer bits 6 bits   if two or more inner children are private (not shared): the width of
+//                         the pointer of each private child but the first
+//   shared bits  6 bits   if one is shared: the width of a shared child's address
 //   then, child by child in k order: its value (signed, value bits) if it holds one, then its
-//   pointer if it is inner: a distance back from this pack, or a shared child's address.
+//   pointer if it is inner: a shared child's address, or a private child's distance after the
+//   pack's end (none for the first private child, which starts there).
 // A value v adds v << shift to the depth key its parent's path reconstructs (wrapping uint32, as
 // MMH's key deltas). Packs of a few formats dominate (leaves of one width under a node of one
 // pointer width), so an index of 8 to 14 bits replaces a header of up to 35 (SSVDAG's point,
 // Villanueva et al. 2017: spend bits by frequency).
 //
-// Packs are laid out children first, so every pointer reaches back and the DAG has no cycle. A
-// pack referenced once lies in its parent's private block, just before it, a short distance back.
-// Shared packs come first, the most referenced earliest (as far as their own shared children let
-// them), so the addresses referenced most often are the smallest: SSVDAG's pointers by reference
-// frequency.
+// A pack referenced once is private to its parent. A pack and its private children's trees, in k
+// order, make its *private tree*, laid out in one piece, the pack first: the first private child
+// follows its parent (no pointer, and a walk reads on in the same cache line), the others lie a
+// short distance after it. Shared packs' private trees come first, the most referenced earliest
+// (as far as their own shared children let them: each is placed before a pack points to it), so
+// the addresses referenced most often are the smallest: SSVDAG's pointers by reference frequency.
+// The root's private tree comes last.
 #pragma once
 
 #include <array>
@@ -57,9 +61,9 @@ enum class ValueChoice : uint8_t {
 // Each direction can be switched off, so that its effect is measured alone (the ablation).
 struct Options {
   ValueChoice values = ValueChoice::Simplest;
-  bool sharing = true;          // hash-cons equal packs; false stores the tree
-  bool sharedAddresses = true;  // shared packs first, by absolute address; false: all relative
-  bool formatTable = true;      // a table of frequent formats; false: every format explicit
+  bool sharing = true;       // hash-cons equal packs; false stores the tree
+  bool byReferences = true;  // shared packs laid out the most referenced first; false: as found
+  bool formatTable = true;   // a table of frequent formats; false: every format explicit
 };
 
 // The number a ValueChoice::Simplest value takes in [lo, hi] (lo ≤ hi): 0 if the interval holds
@@ -93,27 +97,50 @@ inline const PackShape& packShape(uint32_t flags) {
   return kPackShapes[flags & 0xff];
 }
 
-// A pack's format: its flags, which inner children are shared, the widths, and the bits its
-// header takes.
+// A pack's format: its flags, which inner children are shared, the widths, and where its fields
+// lie (derived from the rest and the bits of its header).
 struct PackFormat {
   uint8_t flags = 0, valueBits = 0, shift = 0, sharedMask = 0, pointerBits = 0, sharedBits = 0;
   uint8_t headerBits = 0;
+  std::array<uint8_t, kMhChildren> pointerWidth{};  // child k's pointer field: 0 if implicit
+  std::array<uint16_t, kMhChildren> fieldAt{};      // child k's first field, from the pack's start
+  uint16_t bits = 0;                                // the whole pack's
   // Its name in the table: 35 bits.
   uint64_t code() const {
     return uint64_t(flags) | uint64_t(valueBits) << 8 | uint64_t(shift) << 14 |
            uint64_t(pointerBits) << 19 | uint64_t(sharedBits) << 25 | uint64_t(sharedMask) << 31;
   }
-  static PackFormat ofCode(uint64_t code) {
-    return {uint8_t(code),
-            uint8_t(code >> 8 & 63),
-            uint8_t(code >> 14 & 31),
-            uint8_t(code >> 31 & 15),
-            uint8_t(code >> 19 & 63),
-            uint8_t(code >> 25 & 63),
-            0};
+  static PackFormat ofCode(uint64_t code, uint32_t headerBits) {
+    PackFormat f{uint8_t(code),
+                 uint8_t(code >> 8 & 63),
+                 uint8_t(code >> 14 & 31),
+                 uint8_t(code >> 31 & 15),
+                 uint8_t(code >> 19 & 63),
+                 uint8_t(code >> 25 & 63)};
+    f.derive(headerBits);
+    return f;
   }
+  // The private inner children (not shared): the first of them follows the pack and needs no
+  // pointer, so the others' pointers need a width only if there are two or more.
+  uint32_t privateMask() const { return packShape(flags).innerMask & ~uint32_t(sharedMask); }
+  bool hasPointerWidth() const { return std::popcount(privateMask()) >= 2; }
   // The bits of its explicit form: flags, then the fields the flags and the mask call for.
   uint32_t explicitBits() const;
+  // Sets headerBits and the fields' places.
+  void derive(uint32_t header) {
+    headerBits = uint8_t(header);
+    const uint32_t implicit = privateMask() & -privateMask();
+    uint32_t at = header;
+    for (int k = 0; k < kMhChildren; ++k) {
+      const uint32_t child = 1u << k;
+      fieldAt[k] = uint16_t(at);
+      pointerWidth[k] = uint8_t(sharedMask & child                  ? sharedBits
+                                : privateMask() & ~implicit & child ? pointerBits
+                                                                    : 0);
+      at += (hasValue(MhChild(childFlag(flags, k))) ? valueBits : 0) + pointerWidth[k];
+    }
+    bits = uint16_t(at);
+  }
 };
 
 class DeltaDag {
@@ -141,27 +168,11 @@ class DeltaDag {
   // One step of a walk to child k of its inner node; false where that child is missing (its
   // square is answered by the walk's key).
   bool step(Walk& walk, int k) const {
-    const PackFormat f = format(read64(walk.position));
-    const MhChild child = MhChild(childFlag(f.flags, k));
-    if (child == MhChild::None) return false;
-    const PackShape& shape = packShape(f.flags);
-    uint64_t at = walk.position + f.headerBits + shape.valuesBefore[k] * f.valueBits +
-                  pointerBitsBefore(shape, f, k);
-    // One read holds the value and the pointer where their widths fit 57 bits together.
-    const bool shared = f.sharedMask >> k & 1;
-    const uint32_t pointerBits = shared ? f.sharedBits : f.pointerBits;
-    uint64_t field = read64(at);
-    if (hasValue(child)) {
-      walk.key += uint32_t(int64_t(field << (64 - f.valueBits)) >> (64 - f.valueBits)) << f.shift;
-      field = f.valueBits + pointerBits <= 57 ? field >> f.valueBits : read64(at + f.valueBits);
-    }
-    if (child != MhChild::Leaf) {
-      const uint64_t pointer = field & ((uint64_t(1) << pointerBits) - 1);
-      walk.position = shared ? pointer : walk.position - pointer;
-    }
-    walk.kind = child;
-    ++walk.level;
-    return true;
+    const uint64_t word = read64(walk.position);
+    const uint64_t index = word & formatMask_;
+    return index < formats_.size()
+               ? step(formats_[index], walk, k)
+               : step(explicitFormat(word >> formatBits_, formatBits_), walk, k);
   }
 
   // Where a walk to texel (i, j) stands at the skip level (or above it, where it ended).
@@ -201,6 +212,26 @@ class DeltaDag {
   static DeltaDag load(ByteReader& in, const MapInfo& map);
 
  private:
+  // A step with the format of the walk's pack.
+  bool step(const PackFormat& f, Walk& walk, int k) const {
+    const MhChild child = MhChild(childFlag(f.flags, k));
+    if (child == MhChild::None) return false;
+    const uint64_t at = walk.position + f.fieldAt[k];
+    // One read holds the value and the pointer where their widths fit 57 bits together.
+    const uint32_t pointerBits = f.pointerWidth[k];
+    uint64_t field = read64(at);
+    if (hasValue(child)) {
+      walk.key += uint32_t(int64_t(field << (64 - f.valueBits)) >> (64 - f.valueBits)) << f.shift;
+      field = f.valueBits + pointerBits <= 57 ? field >> f.valueBits : read64(at + f.valueBits);
+    }
+    if (child != MhChild::Leaf) {
+      const uint64_t pointer = field & ((uint64_t(1) << pointerBits) - 1);
+      walk.position = f.sharedMask >> k & 1 ? pointer : walk.position + f.bits + pointer;
+    }
+    walk.kind = child;
+    ++walk.level;
+    return true;
+  }
   // The format of the pack whose first bits `word` holds.
   PackFormat format(uint64_t word) const {
     const uint32_t index = uint32_t(word & formatMask_);
@@ -216,17 +247,11 @@ class DeltaDag {
     if (shape.hasValues) f.valueBits = (word >> 8) & 63, f.shift = (word >> 14) & 31, at = 19;
     if (shape.hasInner) {
       f.sharedMask = uint8_t((word >> at) & 15), at += 4;
-      if (shape.innerMask & ~f.sharedMask) f.pointerBits = (word >> at) & 63, at += 6;
+      if (f.hasPointerWidth()) f.pointerBits = (word >> at) & 63, at += 6;
       if (f.sharedMask) f.sharedBits = (word >> at) & 63, at += 6;
     }
-    f.headerBits = uint8_t(indexBits + at);
+    f.derive(indexBits + at);
     return f;
-  }
-  // The pointer bits of the inner children before child k.
-  static uint32_t pointerBitsBefore(const PackShape& shape, const PackFormat& f, int k) {
-    const uint32_t before = shape.innerMask & ((1u << k) - 1);
-    return std::popcount(before & ~uint32_t(f.sharedMask)) * f.pointerBits +
-           std::popcount(before & f.sharedMask) * f.sharedBits;
   }
   // 64 bits from bit `position` on: the bytes carry 8 bytes of padding past the last bit.
   uint64_t read64(uint64_t position) const {
@@ -248,11 +273,12 @@ class DeltaDag {
     const uint32_t midX = x0 + half, midY = y0 + half;
     const bool columns[2] = {rect.i0 < midX, rect.i1 >= midX};
     const bool rows[2] = {rect.j0 < midY, rect.j1 >= midY};
+    const PackFormat f = format(read64(walk.position));  // once for the four children
     for (int k = 0; k < kMhChildren; ++k) {
       if (!columns[k & 1] || !rows[k >> 1]) continue;
       const uint32_t cx = x0 + (k & 1) * half, cy = y0 + (k >> 1) * half;
       Walk child = walk;
-      if (!step(child, k) || child.kind == MhChild::Leaf)
+      if (!step(f, child, k) || child.kind == MhChild::Leaf)
         visit(child.key, overlap(rect, cx, cy, half));
       else
         walkRect(child, cx, cy, rect, visit);
@@ -293,7 +319,7 @@ struct Encoded {
 };
 
 // The encode step from the hierarchy (HierarchyEncode's work): values chosen top-down, packs
-// hash-consed bottom-up, laid out children first.
+// hash-consed bottom-up, laid out as private trees.
 Encoded encode(MultiresHierarchy hierarchy, const Options& options);
 
 class Decoder final : public DepthDecoder<Decoder> {

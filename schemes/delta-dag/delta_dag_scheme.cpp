@@ -11,7 +11,7 @@ using delta_dag::ValueChoice;
 
 Options optionsOf(const ParamValues& params) {
   return {params.choice("values") == "middle" ? ValueChoice::Middle : ValueChoice::Simplest,
-          params.choice("sharing") == "dag", params.choice("addresses") == "shared",
+          params.choice("sharing") == "dag", params.choice("addresses") == "by-references",
           params.choice("formats") == "table"};
 }
 
@@ -53,10 +53,11 @@ SchemeInfo deltaDag() {
                         "map), tree every pack where it lies",
                         "dag", {"dag", "tree"}, {"dag", "tree"}),
       ParamSpec::choice("addresses",
-                        "shared lays packs referenced more than once out first, the most "
-                        "referenced earliest, and points to them by address; relative points to "
-                        "every child by its distance back (SSVDAG: pointers by frequency)",
-                        "shared", {"shared", "relative"}, {"shared", "relative"}),
+                        "the order of the packs referenced more than once, laid out first and "
+                        "pointed to by address: by-references the most referenced earliest, so "
+                        "that their addresses are the shortest (SSVDAG: pointers by frequency), "
+                        "found in the order hash-consing found them",
+                        "by-references", {"by-references", "found"}, {"by-references", "found"}),
       ParamSpec::choice("formats",
                         "table indexes the most frequent pack formats (flags and field widths); "
                         "explicit writes every pack's format in full",

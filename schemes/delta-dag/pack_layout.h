@@ -66,8 +66,8 @@ class BitWriter {
   uint64_t bits_ = 0;
 };
 
-// The packs written children first, each once: every pointer reaches back, to a pack already
-// placed, so a pack's widths are known when it is written.
+// The packs written as private trees, each pack before the private trees of its children, the
+// first of which follows it with no pointer (delta_dag.h).
 struct Layout {
   BitWriter out;
   uint64_t rootPosition = 0;
@@ -78,12 +78,12 @@ struct Layout {
   uint64_t bits() const { return out.position(); }
 };
 
-// The order shared packs are laid out in: the most referenced first, each once the shared packs
-// its private block references are placed.
+// The order shared packs are laid out in: the most referenced first (`byReferences`) or the first
+// found (the lowest id), each once the shared packs its private tree references are placed.
 std::vector<uint32_t> sharedOrder(const std::vector<Pack>& packs,
-                                  const std::vector<uint32_t>& references);
-// The packs of the DAG under `rootPack`, children first; `absolute`: the packs pointed to by
-// address, laid out first in the order `shared`; a table of `codes` indexed by `formatBits`.
+                                  const std::vector<uint32_t>& references, bool byReferences);
+// The packs of the DAG under `rootPack`; `absolute`: the packs pointed to by address, whose private
+// trees are laid out first in the order `shared`; a table of `codes` indexed by `formatBits`.
 Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
               const std::vector<uint32_t>& shared, uint32_t formatBits,
               std::vector<uint64_t> codes);

@@ -14,7 +14,7 @@ REGISTRY_DEFAULTS = {
     "cpvs-fast": {"leaf-layout": "slab8", "grid-levels": "0", "culling": "on",
                   "transitions": "aligned", "coarse-classification": "masks"},
     "dag-mh": {"treelet-height": "4", "chunk-size": "32", "skip-level": "6"},
-    "delta-dag": {"values": "simplest", "sharing": "dag", "addresses": "shared",
+    "delta-dag": {"values": "simplest", "sharing": "dag", "addresses": "by-references",
                   "formats": "table"},
     "mmh": {"search-distance": "1000", "interval-test": "both-ways",
             "relative-values": "key-deltas"},
