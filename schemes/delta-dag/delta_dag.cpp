@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <unordered_map>
 
 #include "schemes/delta-dag/pack_layout.h"
+#include "schemes/delta-dag/prefix_code.h"
 #include "schemes/shared/hash_cons.h"
 
 namespace sb::delta_dag {
@@ -33,17 +35,24 @@ int64_t simplestIn(int64_t lo, int64_t hi) {
 }
 
 DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
-                   uint32_t formatBits, std::vector<uint64_t> formatCodes,
-                   std::vector<uint8_t> bytes, uint64_t bits, bool validated)
+                   FormatTable table, std::vector<uint8_t> bytes, uint64_t bits, bool validated)
     : levels_(levels),
       rootKind_(rootKind),
       rootKey_(rootKey),
       rootPosition_(rootPosition),
-      formatBits_(formatBits),
-      formatMask_((uint64_t(1) << formatBits) - 1),
+      table_(std::move(table)),
       bytes_(std::move(bytes)),
       bits_(bits) {
-  for (const uint64_t code : formatCodes) formats_.push_back(PackFormat::ofCode(code, formatBits));
+  for (size_t c = 0; c < table_.codes.size(); ++c)
+    formats_.push_back(PackFormat::ofCode(table_.codes[c], table_.lengths[c]));
+  if (table_.lengths.empty()) {
+    decode_ = {0};  // every pack starts with its explicit format
+  } else {
+    escapeBits_ = table_.lengths.back();
+    const uint32_t longest = *std::max_element(table_.lengths.begin(), table_.lengths.end());
+    codeMask_ = (uint64_t(1) << longest) - 1;
+    decode_ = decodeTable(table_.lengths, longest);
+  }
   if (validated) buildSkipTable();
 }
 
@@ -70,18 +79,13 @@ uint32_t PackFormat::explicitBits() const {
          (shape.hasInner ? 4 + (hasPointerWidth() ? 6 : 0) + (sharedMask ? 6 : 0) : 0);
 }
 
-std::vector<uint64_t> DeltaDag::formatCodes() const {
-  std::vector<uint64_t> codes;
-  for (const PackFormat& f : formats_) codes.push_back(f.code());
-  return codes;
-}
-
 SizeBreakdown DeltaDag::size() const {
-  // The root's kind, key and position and the format bits; the table; the packs' bits (whole
-  // bytes; the padding is not part of the structure).
-  return {{"root", 1 + 4 + 8 + 1},
-          {"pack formats", formats_.size() * 8},
+  // The root's kind, key and position; the table with its codes' lengths, the escape's; the
+  // packs' bits (whole bytes; the padding is not part of the structure); what loading derives.
+  return {{"root", 1 + 4 + 8},
+          {"pack formats", formats_.size() * 8 + 1},
           {"packs", (bits_ + 7) / 8},
+          {"format decode table", decode_.size() * sizeof(uint16_t)},
           {"skip table", skip_.size() * sizeof(Walk)}};
 }
 
@@ -89,8 +93,11 @@ void DeltaDag::save(ByteWriter& out) const {
   out.put<uint8_t>(uint8_t(rootKind_));
   out.put<uint32_t>(rootKey_);
   out.put<uint64_t>(rootPosition_);
-  out.put<uint8_t>(uint8_t(formatBits_));
-  out.putArray(std::span<const uint64_t>(formatCodes()));
+  std::vector<uint64_t> entries;
+  for (size_t c = 0; c < table_.codes.size(); ++c)
+    entries.push_back(table_.codes[c] | uint64_t(table_.lengths[c]) << kFormatCodeBits);
+  out.putArray(std::span<const uint64_t>(entries));
+  out.put<uint8_t>(uint8_t(table_.lengths.empty() ? 0 : table_.lengths.back()));
   out.put<uint64_t>(bits_);
   out.putArray(std::span<const uint8_t>(bytes_.data(), (bits_ + 7) / 8));
 }
@@ -133,20 +140,32 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   if (rootKey > 0x7f800000u)
     throw FormatError(fmt::format("delta-dag: root key {:#x} is not a depth", rootKey));
   const uint64_t rootPosition = in.get<uint64_t>("root position");
-  const uint32_t formatBits = in.get<uint8_t>("format bits");
-  if (formatBits > kMaxFormatBits)
+  FormatTable table;
+  const std::vector<uint64_t> entries = in.getArray<uint64_t>("pack formats");
+  for (size_t c = 0; c < entries.size(); ++c) {
+    const uint64_t code = entries[c] & ((uint64_t(1) << kFormatCodeBits) - 1);
+    const std::string invalid = entries[c] >> (kFormatCodeBits + 5) != 0
+                                    ? "has bits past its 40"
+                                    : invalidFormat(PackFormat::ofCode(code, 0));
+    if (!invalid.empty())
+      throw FormatError(
+          fmt::format("delta-dag: pack format {} ({:#x}) {}", c, entries[c], invalid));
+    table.codes.push_back(code);
+    table.lengths.push_back(uint8_t(entries[c] >> kFormatCodeBits));
+  }
+  const uint32_t escapeBits = in.get<uint8_t>("escape code length");
+  if (entries.size() >= kNoSymbol)
     throw FormatError(
-        fmt::format("delta-dag: {} format bits, at most {}", formatBits, kMaxFormatBits));
-  std::vector<uint64_t> codes = in.getArray<uint64_t>("pack formats");
-  if (codes.size() > (uint64_t(1) << formatBits) - 1 || (formatBits != 0 && codes.empty()))
-    throw FormatError(
-        fmt::format("delta-dag: {} pack formats for {} format bits", codes.size(), formatBits));
-  for (size_t c = 0; c < codes.size(); ++c)
-    if (codes[c] >> 35 != 0 || !invalidFormat(PackFormat::ofCode(codes[c], 0)).empty())
-      throw FormatError(fmt::format("delta-dag: pack format {} ({:#x}) {}", c, codes[c],
-                                    codes[c] >> 35
-                                        ? "has bits past its 35"
-                                        : invalidFormat(PackFormat::ofCode(codes[c], 0))));
+        fmt::format("delta-dag: {} pack formats, at most {}", entries.size(), kNoSymbol - 1));
+  if (entries.empty() && escapeBits != 0)
+    throw FormatError("delta-dag: an escape code without a table of formats");
+  if (!entries.empty()) {
+    table.lengths.push_back(uint8_t(escapeBits));
+    if (!isPrefixCode(table.lengths, kMaxCodeBits))
+      throw FormatError(
+          "delta-dag: the formats' code lengths (and the escape's) are not 1 to 16 bits of a "
+          "prefix code");
+  }
   const uint64_t bits = in.get<uint64_t>("bit count");
   if (bits > uint64_t(in.remaining()) * 8) throw FormatError("delta-dag: packs truncated");
   const uint64_t byteCount = (bits + 7) / 8;
@@ -154,10 +173,10 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   bytes.resize(byteCount + 8, 0);
   if (bits % 8 != 0 && (bytes[byteCount - 1] >> (bits % 8)) != 0)
     throw FormatError("delta-dag: bits past the last pack are set");
-  if (rootKind == MhChild::Leaf && (rootPosition != 0 || bits != 0 || formatBits != 0))
+  if (rootKind == MhChild::Leaf && (rootPosition != 0 || bits != 0 || !table.lengths.empty()))
     throw FormatError("delta-dag: a leaf root with packs");
-  DeltaDag dag(levels, rootKind, rootKey, rootPosition, formatBits, std::move(codes),
-               std::move(bytes), bits, false);
+  DeltaDag dag(levels, rootKind, rootKey, rootPosition, std::move(table), std::move(bytes), bits,
+               false);
   if (rootKind == MhChild::Leaf) {
     dag.buildSkipTable();
     return dag;
@@ -178,12 +197,10 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     if (budget < 1) throw fail(position, "lies below the texel level");
     if (position >= bits) throw fail(position, "lies outside the packs");
     const uint64_t word = dag.read64(position);
+    if (dag.decode_[word & dag.codeMask_] == kNoSymbol)
+      throw fail(position, "starts with no format's code");
     const PackFormat f = dag.format(word);
     if (f.headerBits > bits - position) throw fail(position, "runs past the packs");
-    if ((word & dag.formatMask_) >= dag.formats_.size() &&
-        (word & dag.formatMask_) != dag.formatMask_)
-      throw fail(position,
-                 fmt::format("has format {}, of {}", word & dag.formatMask_, dag.formats_.size()));
     if (const std::string invalid = invalidFormat(f); !invalid.empty())
       throw fail(position, invalid);
     if (f.bits > bits - position) throw fail(position, "runs past the packs");
@@ -277,13 +294,14 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
 
   if (rootPack == kNoPack)
     return {
-        DeltaDag(hierarchy.levels, MhChild::Leaf, rootKey, 0, 0, {}, std::vector<uint8_t>(8, 0), 0),
+        DeltaDag(hierarchy.levels, MhChild::Leaf, rootKey, 0, {}, std::vector<uint8_t>(8, 0), 0),
         stats};
-  // Laid out with explicit formats; then with tables of their most frequent formats, indexed by
-  // 8, 11 and 14 bits; then the best width once more with the formats its layout used (shorter
-  // headers shorten pointers, which changes formats). The smallest layout is kept: a pack's
-  // format may be any of the table's that holds it, so what a table saves is known only by
-  // laying it out.
+  // Laid out with explicit formats; then with tables of the formats their packs take at least 2
+  // and at least 8 times, coded by their counts (prefix_code.h); then the best once more with its
+  // table refitted to the uses its layout made (shorter headers shorten pointers, which changes
+  // formats). The smallest layout, tables counted, is kept: a pack's format may be any of the
+  // table's that holds it, so what a table saves is known only by laying it out. Codes are at
+  // most as long as keeps the decode table within 1/64 of the explicit layout's bits.
   std::vector<uint32_t> references(packs.size(), 0);
   for (const Pack& pack : packs)
     for (int k = 0; k < kMhChildren; ++k)
@@ -293,25 +311,27 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   for (const uint32_t id : shared) absolute[id] = true;
   stats.sharedPacks = uint64_t(std::count_if(references.begin(), references.end(),
                                              [](uint32_t count) { return count > 1; }));
-  Layout best = layOut(packs, rootPack, absolute, shared, 0, {});
+  Layout best = layOut(packs, rootPack, absolute, shared, {});
   const auto keepSmaller = [&](Layout next) {
-    if (next.bits() + next.codes.size() * 64 < best.bits() + best.codes.size() * 64)
-      best = std::move(next);
+    if (next.cost() < best.cost()) best = std::move(next);
   };
-  const std::unordered_map<uint64_t, uint64_t> counts = best.formatCounts;
-  for (const uint32_t b : {8u, 11u, 14u})
-    if (options.formatTable)
-      keepSmaller(layOut(packs, rootPack, absolute, shared, b, mostFrequent(counts, b)));
-  if (best.formatBits != 0)
-    keepSmaller(layOut(packs, rootPack, absolute, shared, best.formatBits,
-                       mostFrequent(best.formatCounts, best.formatBits)));
-  stats.formats = best.codes.size();
+  const uint32_t maxBits =
+      std::min<uint32_t>(kMaxCodeBits, std::bit_width(best.bits() / (64 * 16)) - 1);
+  if (options.formatTable && best.bits() >= 64 * 16 * 16) {
+    const std::unordered_map<uint64_t, uint64_t> counts = best.formatCounts;
+    for (const uint64_t minCount : {2u, 8u})
+      keepSmaller(
+          layOut(packs, rootPack, absolute, shared, frequentFormats(counts, minCount, maxBits)));
+    if (!best.table.codes.empty())
+      keepSmaller(layOut(packs, rootPack, absolute, shared, refitted(best, maxBits)));
+  }
+  stats.formats = best.table.codes.size();
   stats.escapes = best.escapes;
   stats.headerBits = best.headerBits, stats.valueBits = best.valueBits;
   stats.pointerBits = best.pointerBits;
   const uint64_t bits = best.bits();
-  return {DeltaDag(hierarchy.levels, MhChild::Full, rootKey, best.rootPosition, best.formatBits,
-                   std::move(best.codes), best.out.release(), bits),
+  return {DeltaDag(hierarchy.levels, MhChild::Full, rootKey, best.rootPosition,
+                   std::move(best.table), best.out.release(), bits),
           stats};
 }
 

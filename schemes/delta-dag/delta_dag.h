@@ -5,11 +5,11 @@
 // widths, Villanueva et al. 2017).
 //
 // A pack is the four children of one inner node. Its header is its *format*: its flags and field
-// widths. The structure keeps a table of the most frequent formats, and a pack begins with
-// `format bits` bits of index into it; the index 2^(format bits) − 1 says the format follows
-// explicitly (an escape). Bit layout, little-endian bit order:
-//   format index format bits
-//   and after an escape:
+// widths. The structure keeps a table of the frequent formats, each with a prefix code by its
+// frequency (Huffman's), and a pack begins with its format's code, or with the escape's code and
+// then its format explicitly. Bit layout, little-endian bit order:
+//   format code  1 to 16 bits (none where the table is empty)
+//   and after the escape's:
 //   flags        8 bits   the kind of child k in bits 2k, 2k+1 (MhChild: none, full, empty, leaf)
 //   value bits   6 bits   } only if some child holds a value (full or leaf): the width of each
 //   shift        5 bits   } value field, and the shift applied to every value of the pack
@@ -23,7 +23,7 @@
 //   pack's end (none for the first private child, which starts there).
 // A value v adds v << shift to the depth key its parent's path reconstructs (wrapping uint32, as
 // MMH's key deltas). Packs of a few formats dominate (leaves of one width under a node of one
-// pointer width), so an index of 8 to 14 bits replaces a header of up to 35 (SSVDAG's point,
+// pointer width), so a code of a few bits replaces a header of up to 35 (SSVDAG's point,
 // Villanueva et al. 2017: spend bits by frequency).
 //
 // A pack referenced once is private to its parent. A pack and its private children's trees, in k
@@ -97,6 +97,8 @@ inline const PackShape& packShape(uint32_t flags) {
   return kPackShapes[flags & 0xff];
 }
 
+constexpr uint32_t kFormatCodeBits = 35;
+
 // A pack's format: its flags, which inner children are shared, the widths, and where its fields
 // lie (derived from the rest and the bits of its header).
 struct PackFormat {
@@ -105,7 +107,7 @@ struct PackFormat {
   std::array<uint8_t, kMhChildren> pointerWidth{};  // child k's pointer field: 0 if implicit
   std::array<uint16_t, kMhChildren> fieldAt{};      // child k's first field, from the pack's start
   uint16_t bits = 0;                                // the whole pack's
-  // Its name in the table: 35 bits.
+  // Its name in the table: kFormatCodeBits bits.
   uint64_t code() const {
     return uint64_t(flags) | uint64_t(valueBits) << 8 | uint64_t(shift) << 14 |
            uint64_t(pointerBits) << 19 | uint64_t(sharedBits) << 25 | uint64_t(sharedMask) << 31;
@@ -143,6 +145,14 @@ struct PackFormat {
   }
 };
 
+// The table of frequent formats and their prefix code (prefix_code.h): format c's code takes
+// lengths[c] bits, the escape's lengths.back(). Both empty: no table, no escape code, every
+// format explicit.
+struct FormatTable {
+  std::vector<uint64_t> codes;   // PackFormat::code()
+  std::vector<uint8_t> lengths;  // codes.size() + 1 of them, or none
+};
+
 class DeltaDag {
  public:
   // Where a walk stands: the pack of an inner node at bit `position` (none for a leaf) and the key
@@ -155,9 +165,8 @@ class DeltaDag {
   };
 
   DeltaDag() = default;
-  DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
-           uint32_t formatBits, std::vector<uint64_t> formatCodes, std::vector<uint8_t> bytes,
-           uint64_t bits, bool validated = true);
+  DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition, FormatTable table,
+           std::vector<uint8_t> bytes, uint64_t bits, bool validated = true);
 
   uint32_t resolution() const { return uint32_t(1) << levels_; }
   int levels() const { return levels_; }
@@ -169,10 +178,10 @@ class DeltaDag {
   // square is answered by the walk's key).
   bool step(Walk& walk, int k) const {
     const uint64_t word = read64(walk.position);
-    const uint64_t index = word & formatMask_;
-    return index < formats_.size()
-               ? step(formats_[index], walk, k)
-               : step(explicitFormat(word >> formatBits_, formatBits_), walk, k);
+    const uint32_t symbol = decode_[word & codeMask_];
+    return symbol < formats_.size()
+               ? step(formats_[symbol], walk, k)
+               : step(explicitFormat(word >> escapeBits_, escapeBits_), walk, k);
   }
 
   // Where a walk to texel (i, j) stands at the skip level (or above it, where it ended).
@@ -205,7 +214,6 @@ class DeltaDag {
 
   SizeBreakdown size() const;
   void save(ByteWriter& out) const;
-  std::vector<uint64_t> formatCodes() const;
   // Validates every pack reachable from the root: fields inside the structure, widths the writer
   // uses, no value of 0, pointers backwards, children only above the texel level. Throws
   // FormatError.
@@ -234,12 +242,12 @@ class DeltaDag {
   }
   // The format of the pack whose first bits `word` holds.
   PackFormat format(uint64_t word) const {
-    const uint32_t index = uint32_t(word & formatMask_);
-    if (index < formats_.size()) return formats_[index];
-    return explicitFormat(word >> formatBits_, formatBits_);
+    const uint32_t symbol = decode_[word & codeMask_];
+    if (symbol < formats_.size()) return formats_[symbol];
+    return explicitFormat(word >> escapeBits_, escapeBits_);
   }
-  // An explicit format from its first bits, after `indexBits` bits of escape.
-  static PackFormat explicitFormat(uint64_t word, uint32_t indexBits) {
+  // An explicit format from its first bits, after `escapeBits` bits of escape code.
+  static PackFormat explicitFormat(uint64_t word, uint32_t escapeBits) {
     PackFormat f;
     f.flags = uint8_t(word & 0xff);
     const PackShape& shape = packShape(f.flags);
@@ -250,7 +258,7 @@ class DeltaDag {
       if (f.hasPointerWidth()) f.pointerBits = (word >> at) & 63, at += 6;
       if (f.sharedMask) f.sharedBits = (word >> at) & 63, at += 6;
     }
-    f.derive(indexBits + at);
+    f.derive(escapeBits + at);
     return f;
   }
   // 64 bits from bit `position` on: the bytes carry 8 bytes of padding past the last bit.
@@ -296,10 +304,12 @@ class DeltaDag {
   MhChild rootKind_ = MhChild::Leaf;  // Leaf (one key for the map) or Full (a pack below)
   uint32_t rootKey_ = 0;
   uint64_t rootPosition_ = 0;
-  uint32_t formatBits_ = 0;
-  uint64_t formatMask_ = 0;
-  std::vector<PackFormat> formats_;  // the table, each with headerBits = formatBits_
-  std::vector<uint8_t> bytes_;       // bits_ bits, then 8 bytes of padding
+  FormatTable table_;
+  std::vector<PackFormat> formats_;  // the table's, each with headerBits its code's length
+  uint32_t escapeBits_ = 0;
+  uint64_t codeMask_ = 0;         // the bits that decode a code: 2^(the longest code) − 1
+  std::vector<uint16_t> decode_;  // the symbol each value of those bits starts (prefix_code.h)
+  std::vector<uint8_t> bytes_;    // bits_ bits, then 8 bytes of padding
   uint64_t bits_ = 0;
 };
 

@@ -4,6 +4,8 @@
 #include <queue>
 #include <stdexcept>
 
+#include "schemes/delta-dag/prefix_code.h"
+
 namespace sb::delta_dag {
 
 // The order shared packs are laid out in: the most referenced first (or the first found), each
@@ -71,22 +73,30 @@ uint8_t widthFor(uint8_t width, uint64_t pointer) {
 
 }  // namespace
 
+uint64_t Layout::cost() const {
+  const uint32_t longest =
+      table.lengths.empty() ? 0 : *std::max_element(table.lengths.begin(), table.lengths.end());
+  return bits() + table.codes.size() * 64 + (uint64_t(16) << longest);
+}
+
 Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
-              const std::vector<uint32_t>& shared, uint32_t formatBits,
-              std::vector<uint64_t> codes) {
+              const std::vector<uint32_t>& shared, FormatTable table) {
   Layout layout;
-  layout.formatBits = formatBits;
   // The table's formats by flags and shared mask, each group by the bits its formats take: the
   // first of a group that holds a pack is the cheapest.
   std::unordered_map<uint32_t, std::vector<std::pair<PackFormat, uint32_t>>> groups;
-  for (uint32_t c = 0; c < codes.size(); ++c) {
-    const PackFormat g = PackFormat::ofCode(codes[c], formatBits);
+  for (uint32_t c = 0; c < table.codes.size(); ++c) {
+    const PackFormat g = PackFormat::ofCode(table.codes[c], table.lengths[c]);
     groups[g.flags | g.sharedMask << 8].push_back({g, c});
   }
   for (auto& [key, group] : groups)
     std::stable_sort(group.begin(), group.end(),
                      [](const auto& a, const auto& b) { return a.first.bits < b.first.bits; });
-  layout.codes = std::move(codes);
+  const std::vector<uint32_t> codes = canonicalCodes(table.lengths);
+  const uint32_t escapeBits = table.lengths.empty() ? 0 : table.lengths.back();
+  const uint32_t escapeCode = table.lengths.empty() ? 0 : codes.back();
+  layout.uses.assign(table.codes.size() + 1, 0);
+  layout.table = std::move(table);
 
   std::vector<uint64_t> placed(packs.size(), UINT64_MAX), treeBits(packs.size(), 0);
   // A pack's private tree (itself and, in k order, the private trees of its children that are
@@ -126,7 +136,7 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
         f.valueBits = uint8_t(std::max(uint32_t(f.valueBits), signedBits(pack.values[k] >> shift)));
     if (std::max(f.pointerBits, f.sharedBits) > kMaxPointerBits)
       throw std::length_error("delta-dag: a pointer needs more than 57 bits");
-    f.derive(formatBits + f.explicitBits());
+    f.derive(escapeBits + f.explicitBits());
     e.ownCode = f.code();
     // A table format holds the pack if its widths are at least as wide and its shift at most as
     // large; it is used where it takes fewer bits than the explicit one.
@@ -159,16 +169,16 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
   };
 
   BitWriter& out = layout.out;
-  const uint64_t escape = (uint64_t(1) << formatBits) - 1;
   const auto write = [&](const Pack& pack, const PackEncoding& e) {
     const PackFormat& f = e.format;
     const PackShape& shape = packShape(f.flags);
     ++layout.formatCounts[e.ownCode];
+    ++layout.uses[e.index >= 0 ? e.index : layout.table.codes.size()];
     if (e.index >= 0) {
-      out.put(uint64_t(e.index), formatBits);
+      out.put(codes[e.index], f.headerBits);
     } else {
       ++layout.escapes;
-      out.put(escape, formatBits);
+      out.put(escapeCode, escapeBits);
       out.put(f.flags, 8);
       if (shape.hasValues) out.put(f.valueBits, 6), out.put(f.shift, 5);
       if (shape.hasInner) {
@@ -204,16 +214,35 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
   return layout;
 }
 
-// A table of 2^b − 1 formats: the most frequent of these counts (one index is the escape).
-std::vector<uint64_t> mostFrequent(const std::unordered_map<uint64_t, uint64_t>& counts,
-                                   uint32_t b) {
+FormatTable frequentFormats(const std::unordered_map<uint64_t, uint64_t>& counts, uint64_t minCount,
+                            uint32_t maxBits) {
   std::vector<std::pair<uint64_t, uint64_t>> byFrequency;
-  for (const auto& [code, count] : counts) byFrequency.push_back({count, code});
+  uint64_t left = 0;
+  for (const auto& [code, count] : counts) byFrequency.push_back({count, code}), left += count;
   std::sort(byFrequency.begin(), byFrequency.end(), std::greater<>());
-  std::vector<uint64_t> codes;
-  for (size_t e = 0; e < byFrequency.size() && e + 1 < (uint64_t(1) << b); ++e)
-    codes.push_back(byFrequency[e].second);
-  return codes;
+  const size_t most = std::min<size_t>((size_t(1) << maxBits) - 1, kNoSymbol - 1);
+  FormatTable table;
+  std::vector<uint64_t> uses;
+  for (const auto& [count, code] : byFrequency) {
+    if (count < minCount || table.codes.size() == most) break;
+    table.codes.push_back(code), uses.push_back(count), left -= count;
+  }
+  if (table.codes.empty()) return {};
+  uses.push_back(std::max<uint64_t>(left, 1));
+  table.lengths = huffmanLengths(uses, maxBits);
+  return table;
+}
+
+FormatTable refitted(const Layout& layout, uint32_t maxBits) {
+  FormatTable table;
+  std::vector<uint64_t> uses;
+  for (size_t c = 0; c < layout.table.codes.size(); ++c)
+    if (layout.uses[c] > 0)
+      table.codes.push_back(layout.table.codes[c]), uses.push_back(layout.uses[c]);
+  if (table.codes.empty()) return {};
+  uses.push_back(std::max<uint64_t>(layout.uses.back(), 1));
+  table.lengths = huffmanLengths(uses, maxBits);
+  return table;
 }
 
 }  // namespace sb::delta_dag

@@ -14,7 +14,6 @@
 namespace sb::delta_dag {
 
 constexpr uint32_t kMaxValueBits = 32, kMaxPointerBits = 57;  // what read64 reaches
-constexpr uint32_t kMaxFormatBits = 16;
 
 inline bool isInner(uint32_t kind) {
   return MhChild(kind) == MhChild::Full || MhChild(kind) == MhChild::Empty;
@@ -71,11 +70,13 @@ class BitWriter {
 struct Layout {
   BitWriter out;
   uint64_t rootPosition = 0;
-  uint32_t formatBits = 0;
-  std::vector<uint64_t> codes;                          // the format table
-  std::unordered_map<uint64_t, uint64_t> formatCounts;  // packs per format code
+  FormatTable table;
+  std::unordered_map<uint64_t, uint64_t> formatCounts;  // packs per own format's code
+  std::vector<uint64_t> uses;                           // packs per table format, then escapes
   uint64_t escapes = 0, headerBits = 0, valueBits = 0, pointerBits = 0;
   uint64_t bits() const { return out.position(); }
+  // The bits of the packs, the table and the decode table a load derives from it.
+  uint64_t cost() const;
 };
 
 // The order shared packs are laid out in: the most referenced first (`byReferences`) or the first
@@ -83,12 +84,15 @@ struct Layout {
 std::vector<uint32_t> sharedOrder(const std::vector<Pack>& packs,
                                   const std::vector<uint32_t>& references, bool byReferences);
 // The packs of the DAG under `rootPack`; `absolute`: the packs pointed to by address, whose private
-// trees are laid out first in the order `shared`; a table of `codes` indexed by `formatBits`.
+// trees are laid out first in the order `shared`; the formats of `table`.
 Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
-              const std::vector<uint32_t>& shared, uint32_t formatBits,
-              std::vector<uint64_t> codes);
-// A table of 2^b − 1 formats: the most frequent of these counts (one index is the escape).
-std::vector<uint64_t> mostFrequent(const std::unordered_map<uint64_t, uint64_t>& counts,
-                                   uint32_t b);
+              const std::vector<uint32_t>& shared, FormatTable table);
+// A table of the formats that `counts` (packs per format code) holds at least `minCount` times
+// (the most frequent 2^maxBits − 1, fewer than kNoSymbol), with Huffman codes of at most maxBits
+// by count, the escape's by the packs left out.
+FormatTable frequentFormats(const std::unordered_map<uint64_t, uint64_t>& counts, uint64_t minCount,
+                            uint32_t maxBits);
+// The table a layout used, less its unused formats, with codes fitted to its uses.
+FormatTable refitted(const Layout& layout, uint32_t maxBits);
 
 }  // namespace sb::delta_dag
