@@ -84,10 +84,11 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
   Layout layout;
   // The table's formats by flags and shared mask, each group by the bits its formats take: the
   // first of a group that holds a pack is the cheapest.
+  std::vector<PackFormat> formats;
   std::unordered_map<uint32_t, std::vector<std::pair<PackFormat, uint32_t>>> groups;
   for (uint32_t c = 0; c < table.codes.size(); ++c) {
-    const PackFormat g = PackFormat::ofCode(table.codes[c], table.lengths[c]);
-    groups[g.flags | g.sharedMask << 8].push_back({g, c});
+    formats.push_back(PackFormat::ofCode(table.codes[c], table.lengths[c]));
+    groups[formats[c].flags | formats[c].sharedMask << 8].push_back({formats[c], c});
   }
   for (auto& [key, group] : groups)
     std::stable_sort(group.begin(), group.end(),
@@ -108,7 +109,11 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
   };
   // Child k's pointer is a shared child's address, or the bits of the private trees between the
   // pack's end and child k's: 0 for the first, which needs no field.
-  const auto encode = [&](const Pack& pack) {
+  // The table format each pack uses, found when it is measured and kept for when it is placed
+  // (its widths are the same then): -1 explicit, -2 not yet found.
+  std::vector<int32_t> chosen(packs.size(), -2);
+  const auto encode = [&](uint32_t id) {
+    const Pack& pack = packs[id];
     PackEncoding e;
     PackFormat& f = e.format;
     f.flags = pack.flags;
@@ -149,14 +154,18 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
           return false;
       return true;
     };
-    if (const auto group = groups.find(f.flags | f.sharedMask << 8); group != groups.end())
-      for (const auto& [g, c] : group->second) {
-        if (g.bits >= f.bits) break;
-        if (holds(g)) {
-          e.format = g, e.index = c;
-          break;
+    if (chosen[id] == -2) {
+      chosen[id] = -1;
+      if (const auto group = groups.find(f.flags | f.sharedMask << 8); group != groups.end())
+        for (const auto& [g, c] : group->second) {
+          if (g.bits >= f.bits) break;
+          if (holds(g)) {
+            chosen[id] = int32_t(c);
+            break;
+          }
         }
-      }
+    }
+    if (chosen[id] >= 0) e.format = formats[chosen[id]], e.index = chosen[id];
     return e;
   };
   const auto measure = [&](auto& self, uint32_t id) -> void {
@@ -165,7 +174,7 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       self(self, child);
       bits += treeBits[child];
     });
-    treeBits[id] = bits + encode(packs[id]).format.bits;
+    treeBits[id] = bits + encode(id).format.bits;
   };
 
   BitWriter& out = layout.out;
@@ -198,7 +207,7 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
     }
   };
   const auto place = [&](auto& self, uint32_t id) -> void {
-    const PackEncoding e = encode(packs[id]);
+    const PackEncoding e = encode(id);
     const uint64_t position = out.position();
     placed[id] = position;
     write(packs[id], e);
