@@ -15,7 +15,7 @@ namespace {
 
 constexpr uint32_t kNoPack = UINT32_MAX;
 // A format enters the table if at least this many packs take it: at 4K² on the city, tangle and
-// forest 8 gave the smallest layouts of 2, 3, 4, 6, 8, 12, 16 and 32 (a table entry costs 64
+// forest 8 gave the smallest layouts of 2, 3, 4, 6, 8, 12, 16 and 32 (a table entry costs 40
 // bits, an escape about 30), on the tangle at 16K² 8 and 16 tie and 4 is 5 % larger.
 constexpr uint64_t kMinFormatUses = 8;
 
@@ -87,7 +87,7 @@ SizeBreakdown DeltaDag::size() const {
   // The root's kind, key and position; the table with its codes' lengths, the escape's; the
   // packs' bits (whole bytes; the padding is not part of the structure); what loading derives.
   return {{"root", 1 + 4 + 8},
-          {"pack formats", formats_.size() * 8 + 1},
+          {"pack formats", formats_.size() * sizeof(FormatEntry) + 1},
           {"packs", (bits_ + 7) / 8},
           {"format decode table", decode_.size() * sizeof(uint16_t)},
           {"skip table", skip_.size() * sizeof(Walk)}};
@@ -97,10 +97,11 @@ void DeltaDag::save(ByteWriter& out) const {
   out.put<uint8_t>(uint8_t(rootKind_));
   out.put<uint32_t>(rootKey_);
   out.put<uint64_t>(rootPosition_);
-  std::vector<uint64_t> entries;
+  std::vector<FormatEntry> entries;
   for (size_t c = 0; c < table_.codes.size(); ++c)
-    entries.push_back(table_.codes[c] | uint64_t(table_.lengths[c]) << kFormatCodeBits);
-  out.putArray(std::span<const uint64_t>(entries));
+    entries.push_back(
+        FormatEntry::of(table_.codes[c] | uint64_t(table_.lengths[c]) << kFormatCodeBits));
+  out.putArray(std::span<const FormatEntry>(entries));
   out.put<uint8_t>(uint8_t(table_.lengths.empty() ? 0 : table_.lengths.back()));
   out.put<uint64_t>(bits_);
   out.putArray(std::span<const uint8_t>(bytes_.data(), (bits_ + 7) / 8));
@@ -145,17 +146,15 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     throw FormatError(fmt::format("delta-dag: root key {:#x} is not a depth", rootKey));
   const uint64_t rootPosition = in.get<uint64_t>("root position");
   FormatTable table;
-  const std::vector<uint64_t> entries = in.getArray<uint64_t>("pack formats");
+  const std::vector<FormatEntry> entries = in.getArray<FormatEntry>("pack formats");
   for (size_t c = 0; c < entries.size(); ++c) {
-    const uint64_t code = entries[c] & ((uint64_t(1) << kFormatCodeBits) - 1);
-    const std::string invalid = entries[c] >> (kFormatCodeBits + 5) != 0
-                                    ? "has bits past its 40"
-                                    : invalidFormat(PackFormat::ofCode(code, 0));
+    const uint64_t entry = entries[c].value();
+    const uint64_t code = entry & ((uint64_t(1) << kFormatCodeBits) - 1);
+    const std::string invalid = invalidFormat(PackFormat::ofCode(code, 0));
     if (!invalid.empty())
-      throw FormatError(
-          fmt::format("delta-dag: pack format {} ({:#x}) {}", c, entries[c], invalid));
+      throw FormatError(fmt::format("delta-dag: pack format {} ({:#x}) {}", c, entry, invalid));
     table.codes.push_back(code);
-    table.lengths.push_back(uint8_t(entries[c] >> kFormatCodeBits));
+    table.lengths.push_back(uint8_t(entry >> kFormatCodeBits));
   }
   const uint32_t escapeBits = in.get<uint8_t>("escape code length");
   if (entries.size() >= kNoSymbol)

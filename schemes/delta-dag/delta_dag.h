@@ -153,6 +153,24 @@ struct FormatTable {
   std::vector<uint8_t> lengths;  // codes.size() + 1 of them, or none
 };
 
+// A table entry as stored: a format's code and its prefix code's length << kFormatCodeBits, in 5
+// little-endian bytes.
+struct FormatEntry {
+  std::array<uint8_t, 5> bytes;
+  static FormatEntry of(uint64_t value) {
+    FormatEntry entry;
+    for (size_t b = 0; b < entry.bytes.size(); ++b) entry.bytes[b] = uint8_t(value >> (8 * b));
+    return entry;
+  }
+  uint64_t value() const {
+    uint64_t value = 0;
+    for (size_t b = 0; b < bytes.size(); ++b) value |= uint64_t(bytes[b]) << (8 * b);
+    return value;
+  }
+};
+
+static_assert(sizeof(FormatEntry) == 5);
+
 class DeltaDag {
  public:
   // Where a walk stands: the pack of an inner node at bit `position` (none for a leaf) and the key

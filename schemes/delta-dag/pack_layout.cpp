@@ -76,7 +76,7 @@ uint8_t widthFor(uint8_t width, uint64_t pointer) {
 uint64_t Layout::cost() const {
   const uint32_t longest =
       table.lengths.empty() ? 0 : *std::max_element(table.lengths.begin(), table.lengths.end());
-  return bits() + table.codes.size() * 64 + (uint64_t(16) << longest);
+  return bits() + table.codes.size() * 8 * sizeof(FormatEntry) + (uint64_t(16) << longest);
 }
 
 Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
