@@ -15,8 +15,9 @@ namespace {
 
 constexpr uint32_t kNoPack = UINT32_MAX;
 // A format enters the table if at least this many packs take it: at 4K² on the city, tangle and
-// forest 8 gave the smallest layouts of 2, 3, 4, 6, 8, 12, 16 and 32 (a table entry costs 40
-// bits, an escape about 30), on the tangle at 16K² 8 and 16 tie and 4 is 5 % larger.
+// forest, 8 gave the smallest layouts of 2, 3, 4, 6, 8, 12, 16 and 32 with 8-byte table entries,
+// and of 5, 6 and 8 with 5-byte ones (an escape costs about 30 bits); on the tangle at 16K², 8 and
+// 16 tie and 4 is 5 % larger.
 constexpr uint64_t kMinFormatUses = 8;
 
 // The relative value of a node holding interval [lo, hi] below a path that reconstructs `parent`.
