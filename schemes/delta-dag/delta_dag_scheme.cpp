@@ -34,8 +34,9 @@ std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Optio
 
 // Per node of the hierarchy, what the encode step holds beside it: the reconstructed keys and
 // relative values (8), each inner node's pack (4); per pack at most one per node: the pack (36),
-// its hash and slot (8 + 8) and its position (8).
-constexpr uint64_t kEncodeBytesPerNode = 12 + 36 + 16 + 8;
+// its hash and slot (8 + 8), its references (4) and, while the packs are laid out, its position,
+// the bits of its private tree (8 + 8) and the table format it uses (4).
+constexpr uint64_t kEncodeBytesPerNode = 12 + 36 + 16 + 4 + 16 + 4;
 
 SchemeInfo deltaDag() {
   SchemeInfo info;
