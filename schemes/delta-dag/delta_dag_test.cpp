@@ -142,5 +142,41 @@ TEST_CASE("a layout with a table of formats reads back as built", "[delta-dag]")
       REQUIRE(loaded.texelKey(i, j) == encoded.dag.texelKey(i, j));
 }
 
+// The layout with a table, written by hand from the README: a table of one format (child 0 a
+// leaf, 2-bit values) whose code is 0, the escape's 1; the root pack escapes (child 0 full, value
+// 1, its pack following with no pointer), the pack below uses the table (child 0 a leaf, value 1).
+TEST_CASE("a hand-written layout with a table and an escape reads as the README says",
+          "[delta-dag]") {
+  uint64_t packBits = 0, at = 0;
+  const auto put = [&](uint64_t value, uint32_t bits) {
+    packBits |= value << at;
+    at += bits;
+  };
+  put(1, 1), put(0b01, 8), put(2, 6), put(0, 5), put(0, 4), put(1, 2);  // the root's pack
+  put(0, 1), put(1, 2);                                                 // the pack below
+  const uint32_t rootKey = 0x3f000000;
+  const uint64_t format = 0b11 | uint64_t(2) << 8;
+  ByteWriter out;
+  out.put<uint8_t>(uint8_t(MhChild::Full));
+  out.put<uint32_t>(rootKey);
+  out.put<uint64_t>(0);
+  out.put<uint64_t>(1);
+  const uint64_t entry = format | uint64_t(1) << delta_dag::kFormatCodeBits;
+  for (int b = 0; b < 5; ++b) out.put<uint8_t>(uint8_t(entry >> (8 * b)));
+  out.put<uint8_t>(1);
+  out.put<uint64_t>(at);
+  out.put<uint64_t>(4);
+  out.put<uint32_t>(uint32_t(packBits));
+  ByteReader in(out.bytes());
+  const DeltaDag dag = DeltaDag::load(in, {8, 0, DepthMode::Closed});
+  in.expectEnd();
+  CHECK(dag.texelKey(0, 0) == rootKey + 2);
+  CHECK(dag.texelKey(1, 1) == rootKey + 2);
+  CHECK(dag.texelKey(3, 3) == rootKey + 1);
+  CHECK(dag.texelKey(2, 0) == rootKey + 1);
+  CHECK(dag.texelKey(4, 0) == rootKey);
+  CHECK(dag.texelKey(7, 7) == rootKey);
+}
+
 }  // namespace
 }  // namespace sb
