@@ -6,6 +6,7 @@
 #include <bit>
 #include <unordered_map>
 
+#include "schemes/delta-dag/pack_dag.h"
 #include "schemes/delta-dag/pack_layout.h"
 #include "schemes/delta-dag/prefix_code.h"
 #include "schemes/shared/hash_cons.h"
@@ -81,7 +82,9 @@ void DeltaDag::buildSkipTable() {
 uint32_t PackFormat::explicitBits() const {
   const PackShape& shape = packShape(flags);
   return 8 + (shape.hasValues ? 11 : 0) +
-         (shape.hasInner ? 4 + (hasPointerWidth() ? 6 : 0) + (sharedMask ? 6 : 0) : 0);
+         (shape.hasInner
+              ? 4 + (hasPointerWidth() ? 6 : 0) + (sharedMask ? 1 + (symmetryMask ? 4 : 0) + 6 : 0)
+              : 0);
 }
 
 SizeBreakdown DeltaDag::size() const {
@@ -121,6 +124,9 @@ std::string invalidFormat(const PackFormat& f) {
   if ((f.sharedMask & ~shape.innerMask) != 0)
     return fmt::format("marks child {} shared, which is not inner",
                        std::countr_zero(uint32_t(f.sharedMask & ~shape.innerMask)));
+  if ((f.symmetryMask & ~f.sharedMask) != 0)
+    return fmt::format("gives child {} a symmetry, which is not shared",
+                       std::countr_zero(uint32_t(f.symmetryMask & ~f.sharedMask)));
   if (f.hasPointerWidth() ? f.pointerBits == 0 || f.pointerBits > kMaxPointerBits
                           : f.pointerBits != 0)
     return fmt::format("has {}-bit pointers", f.pointerBits);
@@ -154,6 +160,9 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     const std::string invalid = invalidFormat(PackFormat::ofCode(code, 0));
     if (!invalid.empty())
       throw FormatError(fmt::format("delta-dag: pack format {} ({:#x}) {}", c, entry, invalid));
+    if (entry >> kFormatCodeBits > kMaxCodeBits)
+      throw FormatError(fmt::format("delta-dag: pack format {} ({:#x}) has a {}-bit code", c, entry,
+                                    entry >> kFormatCodeBits));
     table.codes.push_back(code);
     table.lengths.push_back(uint8_t(entry >> kFormatCodeBits));
   }
@@ -207,6 +216,9 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     if (f.headerBits > bits - position) throw fail(position, "runs past the packs");
     if (const std::string invalid = invalidFormat(f); !invalid.empty())
       throw fail(position, invalid);
+    if (dag.decode_[word & dag.codeMask_] >= dag.formats_.size() &&
+        f.headerBits != dag.escapeBits_ + f.explicitBits())
+      throw fail(position, "is marked turned with no child turned");
     if (f.bits > bits - position) throw fail(position, "runs past the packs");
     int below = 0;
     for (int k = 0; k < kMhChildren; ++k) {
@@ -260,8 +272,13 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   // no value is 0; a hierarchy merged from crafted part files may break that rule (fuzzing found
   // one). A child whose value is 0 then needs none (a leaf becomes nothing, a full node empty),
   // and an inner child left without a pack becomes a leaf or nothing: the loader refuses a 0.
+  // Packs equal under a symmetry are one: each is stored turned to the orientation that compares
+  // smallest, and its node reads it under the symmetry that turns it back (the first, where the
+  // pack is itself symmetric: those that read it the same are its self-symmetries).
   std::vector<uint32_t> packOf(nodes.size(), kNoPack);
+  std::vector<Symmetry> symmetryOf(nodes.size(), kIdentity);
   std::vector<Pack> packs;
+  std::vector<uint8_t> selfSymmetries;
   HashConsIndex index;
   for (uint32_t n = 0; n < nodes.size(); ++n) {
     const MhNode& node = nodes[n];
@@ -278,34 +295,53 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
       if (isInner(uint32_t(kind)) && packOf[child] == kNoPack)
         kind = kind == MhChild::Full ? MhChild::Leaf : MhChild::None;
       if (hasValue(kind)) pack.values[k] = values[child];
-      if (isInner(uint32_t(kind))) pack.children[k] = packOf[child];
+      if (isInner(uint32_t(kind)))
+        pack.children[k] = packOf[child], pack.symmetries[k] = symmetryOf[child];
       pack.flags |= uint8_t(uint32_t(kind) << (2 * k));
       ++child;
     }
     if (pack.flags == 0) continue;
     ++stats.treePacks;
+    Symmetry read = kIdentity;
+    uint8_t readsSame = 1;  // bit u: turned by u, the pack compares as the smallest
+    if (options.sharing && options.symmetry) {
+      Pack least = pack;
+      for (Symmetry u = 1; u < kSymmetries; ++u) {
+        const Pack candidate = turned(pack, u, selfSymmetries);
+        if (candidate < least) least = candidate, read = u, readsSame = 0;
+        if (candidate == least) readsSame |= uint8_t(1u << u);
+      }
+      pack = least;
+    }
     const auto [id, added] =
         options.sharing
             ? index.findOrAdd(pack.hash(), [&](uint32_t other) { return packs[other] == pack; })
             : std::pair{uint32_t(packs.size()), true};
-    if (added) packs.push_back(pack);
-    packOf[n] = id;
+    if (added) {
+      packs.push_back(pack);
+      uint8_t self = 0;
+      for (Symmetry u = 0; u < kSymmetries; ++u)
+        if (readsSame >> u & 1) self |= uint8_t(1u << kSymmetry.then[u][kSymmetry.inverse[read]]);
+      selfSymmetries.push_back(self);
+    }
+    packOf[n] = id, symmetryOf[n] = read;
   }
   stats.dagPacks = packs.size();
   ++stats.valuedNodes;  // the root
-  const uint32_t rootPack = packOf[root];
-  values = {}, packOf = {};
+  uint32_t rootPack = packOf[root];
+  const Symmetry rootSymmetry = symmetryOf[root];
+  values = {}, packOf = {}, symmetryOf = {};
+  index = HashConsIndex();
 
   if (rootPack == kNoPack)
     return {
         DeltaDag(hierarchy.levels, MhChild::Leaf, rootKey, 0, {}, std::vector<uint8_t>(8, 0), 0),
         stats};
-  // Laid out with explicit formats; then with a table of the formats their packs take at least
-  // kMinFormatUses times, coded by their counts (prefix_code.h); then once more with that table
-  // refitted to the uses its layout made (shorter headers shorten pointers, which changes
-  // formats). The smallest layout, tables counted, is kept: a pack's format may be any of the
-  // table's that holds it, so what a table saves is known only by laying it out. Codes are at
-  // most as long as keeps the decode table within 1/64 of the explicit layout's bits.
+  if (options.sharing && options.symmetry)
+    stats.packSplits = orient(packs, selfSymmetries, {rootPack, rootSymmetry});
+  if (options.sharing && options.copies)
+    rootPack = copyCheapShared(packs, selfSymmetries, rootPack, stats.packCopies);
+  selfSymmetries = {};
   std::vector<uint32_t> references(packs.size(), 0);
   for (const Pack& pack : packs)
     for (int k = 0; k < kMhChildren; ++k)
@@ -315,6 +351,12 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   for (const uint32_t id : shared) absolute[id] = true;
   stats.sharedPacks = uint64_t(std::count_if(references.begin(), references.end(),
                                              [](uint32_t count) { return count > 1; }));
+  // Laid out with explicit formats; then with a table of the formats their packs take at least
+  // kMinFormatUses times, coded by their counts (prefix_code.h); then once more with that table
+  // refitted to the uses its layout made (shorter headers shorten pointers, which changes
+  // formats). The smallest layout, tables counted, is kept: a pack's format may be any of the
+  // table's that holds it, so what a table saves is known only by laying it out. Codes are at
+  // most as long as keeps the decode table within 1/64 of the explicit layout's bits.
   Layout best = layOut(packs, rootPack, absolute, shared, {});
   const auto keepSmaller = [&](Layout next) {
     if (next.cost() < best.cost()) best = std::move(next);
@@ -330,7 +372,7 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   stats.formats = best.table.codes.size();
   stats.escapes = best.escapes;
   stats.headerBits = best.headerBits, stats.valueBits = best.valueBits;
-  stats.pointerBits = best.pointerBits;
+  stats.pointerBits = best.pointerBits, stats.symmetryBits = best.symmetryBits;
   const uint64_t bits = best.bits();
   return {DeltaDag(hierarchy.levels, MhChild::Full, rootKey, best.rootPosition,
                    std::move(best.table), best.out.release(), bits),

@@ -15,12 +15,15 @@
 //   shift        5 bits   } value field, and the shift applied to every value of the pack
 //   shared mask  4 bits   only if some child is inner (full or empty): bit k, child k's pack is
 //                         shared (referenced by more than one pack)
+//   turned       1 bit    only if some child is shared: 1 if some shared child is read turned
+//   symmetry mask 4 bits  only if turned: bit k, child k's reference carries a symmetry
 //   pointer bits 6 bits   if two or more inner children are private (not shared): the width of
 //                         the pointer of each private child but the first
 //   shared bits  6 bits   if one is shared: the width of a shared child's address
 //   then, child by child in k order: its value (signed, value bits) if it holds one, then its
 //   pointer if it is inner: a shared child's address, or a private child's distance after the
-//   pack's end (none for the first private child, which starts there).
+//   pack's end (none for the first private child, which starts there), then the 3-bit symmetry
+//   (square_symmetry.h) of a shared child whose symmetry-mask bit is set.
 // A value v adds v << shift to the depth key its parent's path reconstructs (wrapping uint32, as
 // MMH's key deltas). Packs of a few formats dominate (leaves of one width under a node of one
 // pointer width), so a code of a few bits replaces a header of up to 35 (SSVDAG's point,
@@ -33,6 +36,13 @@
 // (as far as their own shared children let them: each is placed before a pack points to it), so
 // the addresses referenced most often are the smallest: SSVDAG's pointers by reference frequency.
 // The root's private tree comes last.
+//
+// Packs equal under one of the square's 8 symmetries (mirrorings in x and y, transposition) are
+// one pack (SSVDAG's symmetry-aware merging, Villanueva et al. 2017 §4): a pack is stored in the
+// orientation that reads smallest, and a reference to a shared pack names the symmetry it is read
+// under; a private pack is stored already turned the way its parent reads it, so a reference
+// costs its 3 bits only where a shared pack is read turned. A walk carries one symmetry, the
+// composition of those on its path, and turns each child index by it.
 #pragma once
 
 #include <array>
@@ -42,6 +52,7 @@
 #include <string>
 #include <vector>
 
+#include "schemes/delta-dag/square_symmetry.h"
 #include "schemes/interface/depth_decoder.h"
 #include "schemes/interface/serial.h"
 #include "schemes/shared/multires_hierarchy.h"
@@ -64,6 +75,8 @@ struct Options {
   bool sharing = true;       // hash-cons equal packs; false stores the tree
   bool byReferences = true;  // shared packs laid out the most referenced first; false: as found
   bool formatTable = true;   // a table of frequent formats; false: every format explicit
+  bool symmetry = true;      // packs equal under a mirroring or transposition are one pack
+  bool copies = true;        // shared packs smaller than the addresses they save are copied
 };
 
 // The number a ValueChoice::Simplest value takes in [lo, hi] (lo ≤ hi): 0 if the interval holds
@@ -97,20 +110,21 @@ inline const PackShape& packShape(uint32_t flags) {
   return kPackShapes[flags & 0xff];
 }
 
-constexpr uint32_t kFormatCodeBits = 35;
+constexpr uint32_t kFormatCodeBits = 39, kSymmetryBits = 3;
 
 // A pack's format: its flags, which inner children are shared, the widths, and where its fields
 // lie (derived from the rest and the bits of its header).
 struct PackFormat {
   uint8_t flags = 0, valueBits = 0, shift = 0, sharedMask = 0, pointerBits = 0, sharedBits = 0;
-  uint8_t headerBits = 0;
+  uint8_t symmetryMask = 0, headerBits = 0;
   std::array<uint8_t, kMhChildren> pointerWidth{};  // child k's pointer field: 0 if implicit
   std::array<uint16_t, kMhChildren> fieldAt{};      // child k's first field, from the pack's start
   uint16_t bits = 0;                                // the whole pack's
   // Its name in the table: kFormatCodeBits bits.
   uint64_t code() const {
     return uint64_t(flags) | uint64_t(valueBits) << 8 | uint64_t(shift) << 14 |
-           uint64_t(pointerBits) << 19 | uint64_t(sharedBits) << 25 | uint64_t(sharedMask) << 31;
+           uint64_t(pointerBits) << 19 | uint64_t(sharedBits) << 25 | uint64_t(sharedMask) << 31 |
+           uint64_t(symmetryMask) << 35;
   }
   static PackFormat ofCode(uint64_t code, uint32_t headerBits) {
     PackFormat f{uint8_t(code),
@@ -118,7 +132,8 @@ struct PackFormat {
                  uint8_t(code >> 14 & 31),
                  uint8_t(code >> 31 & 15),
                  uint8_t(code >> 19 & 63),
-                 uint8_t(code >> 25 & 63)};
+                 uint8_t(code >> 25 & 63),
+                 uint8_t(code >> 35 & 15)};
     f.derive(headerBits);
     return f;
   }
@@ -126,6 +141,8 @@ struct PackFormat {
   // pointer, so the others' pointers need a width only if there are two or more.
   uint32_t privateMask() const { return packShape(flags).innerMask & ~uint32_t(sharedMask); }
   bool hasPointerWidth() const { return std::popcount(privateMask()) >= 2; }
+  // A pack may take the formats of its flags and shared mask (with the symmetries it needs).
+  uint32_t groupKey() const { return flags | uint32_t(sharedMask) << 8; }
   // The bits of its explicit form: flags, then the fields the flags and the mask call for.
   uint32_t explicitBits() const;
   // Sets headerBits and the fields' places.
@@ -139,7 +156,8 @@ struct PackFormat {
       pointerWidth[k] = uint8_t(sharedMask & child                  ? sharedBits
                                 : privateMask() & ~implicit & child ? pointerBits
                                                                     : 0);
-      at += (hasValue(MhChild(childFlag(flags, k))) ? valueBits : 0) + pointerWidth[k];
+      at += (hasValue(MhChild(childFlag(flags, k))) ? valueBits : 0) + pointerWidth[k] +
+            (symmetryMask & child ? kSymmetryBits : 0);
     }
     bits = uint16_t(at);
   }
@@ -153,10 +171,10 @@ struct FormatTable {
   std::vector<uint8_t> lengths;  // codes.size() + 1 of them, or none
 };
 
-// A table entry as stored: a format's code and its prefix code's length << kFormatCodeBits, in 5
+// A table entry as stored: a format's code and its prefix code's length << kFormatCodeBits, in 6
 // little-endian bytes.
 struct FormatEntry {
-  std::array<uint8_t, 5> bytes;
+  std::array<uint8_t, 6> bytes;
   static FormatEntry of(uint64_t value) {
     FormatEntry entry;
     for (size_t b = 0; b < entry.bytes.size(); ++b) entry.bytes[b] = uint8_t(value >> (8 * b));
@@ -169,15 +187,16 @@ struct FormatEntry {
   }
 };
 
-static_assert(sizeof(FormatEntry) == 5);
+static_assert(sizeof(FormatEntry) == 6);
 
 class DeltaDag {
  public:
-  // Where a walk stands: the pack of an inner node at bit `position` (none for a leaf) and the key
-  // its path gives.
+  // Where a walk stands: the pack of an inner node at bit `position` (none for a leaf), read under
+  // `symmetry`, and the key its path gives.
   struct Walk {
     uint64_t position;
     MhChild kind;
+    Symmetry symmetry;
     int level;
     uint32_t key;
   };
@@ -190,7 +209,7 @@ class DeltaDag {
   int levels() const { return levels_; }
   uint64_t bits() const { return bits_; }
 
-  Walk rootWalk() const { return {rootPosition_, rootKind_, 0, rootKey_}; }
+  Walk rootWalk() const { return {rootPosition_, rootKind_, kIdentity, 0, rootKey_}; }
 
   // One step of a walk to child k of its inner node; false where that child is missing (its
   // square is answered by the walk's key).
@@ -233,26 +252,33 @@ class DeltaDag {
   SizeBreakdown size() const;
   void save(ByteWriter& out) const;
   // Validates every pack reachable from the root: fields inside the structure, widths the writer
-  // uses, no value of 0, pointers backwards, children only above the texel level. Throws
-  // FormatError.
+  // uses, no value of 0, children only above the texel level (so no cycle). Throws FormatError.
   static DeltaDag load(ByteReader& in, const MapInfo& map);
 
  private:
-  // A step with the format of the walk's pack.
+  // A step with the format of the walk's pack, to the child the walk's symmetry turns k into.
   bool step(const PackFormat& f, Walk& walk, int k) const {
-    const MhChild child = MhChild(childFlag(f.flags, k));
+    const uint32_t s = kSymmetry.apply[walk.symmetry][k];
+    const MhChild child = MhChild(childFlag(f.flags, s));
     if (child == MhChild::None) return false;
-    const uint64_t at = walk.position + f.fieldAt[k];
-    // One read holds the value and the pointer where their widths fit 57 bits together.
-    const uint32_t pointerBits = f.pointerWidth[k];
+    const uint64_t at = walk.position + f.fieldAt[s];
+    // One read holds the value, the pointer and the symmetry where they fit 57 bits together.
+    const uint32_t pointerBits = f.pointerWidth[s];
     uint64_t field = read64(at);
     if (hasValue(child)) {
       walk.key += uint32_t(int64_t(field << (64 - f.valueBits)) >> (64 - f.valueBits)) << f.shift;
-      field = f.valueBits + pointerBits <= 57 ? field >> f.valueBits : read64(at + f.valueBits);
+      field = f.valueBits + pointerBits + kSymmetryBits <= 57 ? field >> f.valueBits
+                                                              : read64(at + f.valueBits);
     }
     if (child != MhChild::Leaf) {
       const uint64_t pointer = field & ((uint64_t(1) << pointerBits) - 1);
-      walk.position = f.sharedMask >> k & 1 ? pointer : walk.position + f.bits + pointer;
+      if (f.sharedMask >> s & 1) {
+        walk.position = pointer;
+        if (f.symmetryMask >> s & 1)
+          walk.symmetry = kSymmetry.then[field >> pointerBits & 7][walk.symmetry];
+      } else {
+        walk.position += f.bits + pointer;
+      }
     }
     walk.kind = child;
     ++walk.level;
@@ -273,6 +299,7 @@ class DeltaDag {
     if (shape.hasValues) f.valueBits = (word >> 8) & 63, f.shift = (word >> 14) & 31, at = 19;
     if (shape.hasInner) {
       f.sharedMask = uint8_t((word >> at) & 15), at += 4;
+      if (f.sharedMask && (word >> at++ & 1)) f.symmetryMask = uint8_t((word >> at) & 15), at += 4;
       if (f.hasPointerWidth()) f.pointerBits = (word >> at) & 63, at += 6;
       if (f.sharedMask) f.sharedBits = (word >> at) & 63, at += 6;
     }
@@ -335,10 +362,12 @@ class DeltaDag {
 struct Statistics {
   uint64_t valuedNodes = 0;           // MH nodes holding a value
   uint64_t treePacks = 0;             // inner nodes with a pack left after demotion
-  uint64_t dagPacks = 0;              // distinct packs stored
-  uint64_t sharedPacks = 0;           // of them, those referenced by more than one pack
+  uint64_t dagPacks = 0;              // distinct packs stored (one per symmetry class)
+  uint64_t packSplits = 0;            // readings of a pack split off as packs of their own
+  uint64_t packCopies = 0;            // packs added by copying small shared ones
+  uint64_t sharedPacks = 0;           // of the packs stored, those referenced by more than one
   uint64_t formats = 0, escapes = 0;  // formats in the table, packs whose format is explicit
-  uint64_t headerBits = 0, valueBits = 0, pointerBits = 0;
+  uint64_t headerBits = 0, valueBits = 0, pointerBits = 0, symmetryBits = 0;
 };
 
 struct Encoded {

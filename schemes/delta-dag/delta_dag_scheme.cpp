@@ -11,8 +11,11 @@ using delta_dag::ValueChoice;
 
 Options optionsOf(const ParamValues& params) {
   return {params.choice("values") == "middle" ? ValueChoice::Middle : ValueChoice::Simplest,
-          params.choice("sharing") == "dag", params.choice("addresses") == "by-references",
-          params.choice("formats") == "table"};
+          params.choice("sharing") == "dag",
+          params.choice("addresses") == "by-references",
+          params.choice("formats") == "table",
+          params.choice("symmetry") == "mirrors",
+          params.choice("copies") == "cheaper"};
 }
 
 std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Options& options,
@@ -23,20 +26,25 @@ std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Optio
   context.count("valued nodes", s.valuedNodes);
   context.count("tree packs", s.treePacks);
   context.count("dag packs", s.dagPacks);
+  context.count("pack splits", s.packSplits);
+  context.count("pack copies", s.packCopies);
   context.count("shared packs", s.sharedPacks);
   context.count("pack formats", s.formats);
   context.count("explicit formats", s.escapes);
   context.count("header bits", s.headerBits);
   context.count("value bits", s.valueBits);
   context.count("pointer bits", s.pointerBits);
+  context.count("symmetry bits", s.symmetryBits);
   return std::make_unique<delta_dag::Decoder>(std::move(encoded.dag));
 }
 
 // Per node of the hierarchy, what the encode step holds beside it: the reconstructed keys and
-// relative values (8), each inner node's pack (4); per pack at most one per node: the pack (36),
-// its hash and slot (8 + 8), its references (4) and, while the packs are laid out, its position,
-// the bits of its private tree (8 + 8) and the table format it uses (4).
-constexpr uint64_t kEncodeBytesPerNode = 12 + 36 + 16 + 4 + 16 + 4;
+// relative values (8), each inner node's pack and symmetry (4 + 1); per pack at most one per node:
+// the pack and, while small shared packs are copied, its copy (40 + 40), its hash and slot (8 + 8,
+// until the packs are found), its self-symmetries (1), its references (4), and its estimated tree
+// bits, address width, order and new id while copying (8 + 1 + 4 + 4), or its position, the bits
+// of its private tree and the table format it uses while laid out (8 + 8 + 4).
+constexpr uint64_t kEncodeBytesPerNode = 13 + 80 + 16 + 1 + 4 + 20;
 
 SchemeInfo deltaDag() {
   SchemeInfo info;
@@ -62,7 +70,17 @@ SchemeInfo deltaDag() {
       ParamSpec::choice("formats",
                         "table indexes the most frequent pack formats (flags and field widths); "
                         "explicit writes every pack's format in full",
-                        "table", {"table", "explicit"}, {"table", "explicit"})};
+                        "table", {"table", "explicit"}, {"table", "explicit"}),
+      ParamSpec::choice("symmetry",
+                        "mirrors stores packs equal under a mirroring in x or y or a "
+                        "transposition once, a shared pack's reference naming how it is turned "
+                        "(SSVDAG's symmetry-aware merging); none shares only equal packs",
+                        "mirrors", {"mirrors", "none"}, {"mirrors", "none"}),
+      ParamSpec::choice("copies",
+                        "cheaper copies a shared pack into each pack that references it where its "
+                        "subtree takes fewer bits than the addresses it saves; none keeps every "
+                        "equal pack shared",
+                        "cheaper", {"cheaper", "none"}, {"cheaper", "none"})};
   setMhBuilds(info, {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
                        return [options = optionsOf(params)](MultiresHierarchy hierarchy,
                                                             BuildContext& context) {

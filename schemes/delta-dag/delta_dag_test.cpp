@@ -82,20 +82,25 @@ TEST_CASE("every texel's key lies in its interval, for every option", "[delta-da
     for (uint64_t seed = 1; seed <= 6; ++seed)
       for (const uint32_t resolution : {1u, 2u, 16u, 64u})
         for (const ValueChoice values : {ValueChoice::Simplest, ValueChoice::Middle})
-          for (const bool sharing : {true, false}) {
-            const SyntheticMap map = SyntheticMap::random(resolution, mode, seed);
-            const delta_dag::Encoded encoded =
-                delta_dag::encode(hierarchyOf(map, std::min(resolution, 16u)), {values, sharing});
-            INFO("mode " << toString(mode) << ", seed " << seed << ", R " << resolution);
-            CHECK(texelsOutside(map, encoded.dag) == 0);
-            const DeltaDag loaded = roundTrip(encoded.dag, map.info(SchemeKind::Depth));
-            for (uint32_t j = 0; j < resolution; ++j)
-              for (uint32_t i = 0; i < resolution; ++i)
-                REQUIRE(loaded.texelKey(i, j) == encoded.dag.texelKey(i, j));
-            const delta_dag::Statistics& s = encoded.statistics;
-            CHECK(s.dagPacks <= s.treePacks);
-            CHECK(encoded.dag.bits() == s.headerBits + s.valueBits + s.pointerBits);
-          }
+          for (const bool sharing : {true, false})
+            for (const bool symmetry : {true, false}) {
+              const SyntheticMap map = SyntheticMap::random(resolution, mode, seed);
+              const delta_dag::Encoded encoded =
+                  delta_dag::encode(hierarchyOf(map, std::min(resolution, 16u)),
+                                    {values, sharing, true, true, symmetry});
+              INFO("mode " << toString(mode) << ", seed " << seed << ", R " << resolution
+                           << ", symmetry " << symmetry);
+              CHECK(texelsOutside(map, encoded.dag) == 0);
+              const DeltaDag loaded = roundTrip(encoded.dag, map.info(SchemeKind::Depth));
+              for (uint32_t j = 0; j < resolution; ++j)
+                for (uint32_t i = 0; i < resolution; ++i)
+                  REQUIRE(loaded.texelKey(i, j) == encoded.dag.texelKey(i, j));
+              const delta_dag::Statistics& s = encoded.statistics;
+              CHECK(s.dagPacks <= s.treePacks);
+              CHECK(encoded.dag.bits() ==
+                    s.headerBits + s.valueBits + s.pointerBits + s.symmetryBits);
+              if (!symmetry || !sharing) CHECK(s.symmetryBits == 0);
+            }
 }
 
 TEST_CASE("a uniform map is one leaf root", "[delta-dag]") {
@@ -125,6 +130,43 @@ TEST_CASE("repeated subtrees are stored once, and simplest values find more of t
     CHECK(tree.statistics.sharedPacks == 0);
     CHECK(dag.dag.bits() < tree.dag.bits());
     CHECK(dag.statistics.dagPacks <= middle.statistics.dagPacks);
+  }
+}
+
+// A random quadrant and its three images: mirrored in x, in y, and transposed. With symmetries the
+// quadrants are one shared pack read four ways; without, four packs with little in common.
+SyntheticMap mirroredQuadrants(uint64_t seed) {
+  const SyntheticMap quadrant = SyntheticMap::random(32, DepthMode::Closed, seed);
+  SyntheticMap map{64, DepthMode::Closed, std::vector<float>(64 * 64), std::vector<float>(64 * 64)};
+  for (uint32_t j = 0; j < 64; ++j)
+    for (uint32_t i = 0; i < 64; ++i) {
+      uint32_t x = i % 32, y = j % 32;
+      if (i >= 32 && j < 32) x = 31 - x;
+      if (i < 32 && j >= 32) y = 31 - y;
+      if (i >= 32 && j >= 32) std::swap(x, y);
+      map.lo[size_t(j) * 64 + i] = quadrant.lo[size_t(y) * 32 + x];
+      map.hi[size_t(j) * 64 + i] = quadrant.hi[size_t(y) * 32 + x];
+    }
+  return map;
+}
+
+TEST_CASE("subtrees equal under a mirroring or a transposition are stored once", "[delta-dag]") {
+  for (uint64_t seed = 1; seed <= 8; ++seed) {
+    const SyntheticMap map = mirroredQuadrants(seed);
+    const auto build = [&](bool symmetry) {
+      return delta_dag::encode(hierarchyOf(map, 16),
+                               {ValueChoice::Simplest, true, true, true, symmetry});
+    };
+    const delta_dag::Encoded mirrors = build(true), none = build(false);
+    INFO("seed " << seed);
+    CHECK(texelsOutside(map, mirrors.dag) == 0);
+    const DeltaDag loaded = roundTrip(mirrors.dag, map.info(SchemeKind::Depth));
+    CHECK(texelsOutside(map, loaded) == 0);
+    // The root's pack, and the quadrant's packs once rather than about four times.
+    CHECK(mirrors.statistics.dagPacks * 3 < none.statistics.dagPacks);
+    // Three of the root's four references read the quadrant turned.
+    CHECK(mirrors.statistics.symmetryBits >= 3 * delta_dag::kSymmetryBits);
+    CHECK(mirrors.dag.bits() * 2 < none.dag.bits());
   }
 }
 
@@ -162,7 +204,7 @@ TEST_CASE("a hand-written layout with a table and an escape reads as the README 
   out.put<uint64_t>(0);
   out.put<uint64_t>(1);
   const uint64_t entry = format | uint64_t(1) << delta_dag::kFormatCodeBits;
-  for (int b = 0; b < 5; ++b) out.put<uint8_t>(uint8_t(entry >> (8 * b)));
+  for (int b = 0; b < 6; ++b) out.put<uint8_t>(uint8_t(entry >> (8 * b)));
   out.put<uint8_t>(1);
   out.put<uint64_t>(at);
   out.put<uint64_t>(4);
@@ -176,6 +218,41 @@ TEST_CASE("a hand-written layout with a table and an escape reads as the README 
   CHECK(dag.texelKey(2, 0) == rootKey + 1);
   CHECK(dag.texelKey(4, 0) == rootKey);
   CHECK(dag.texelKey(7, 7) == rootKey);
+}
+
+// The README's layout of a reference read turned, by hand: a shared pack A at bit 0 (explicit,
+// child 0 a leaf of value 1), and the root's pack after it, both children empty and shared: A
+// as stored, and A mirrored in x (symmetry 1), its leaf then the top right texel's.
+TEST_CASE("a hand-written reference read mirrored reads as the README says", "[delta-dag]") {
+  uint64_t packBits = 0, at = 0;
+  const auto put = [&](uint64_t value, uint32_t bits) {
+    packBits |= value << at;
+    at += bits;
+  };
+  put(0b11, 8), put(2, 6), put(0, 5), put(1, 2);  // A
+  const uint64_t root = at;
+  put(0b1010, 8), put(0b11, 4), put(1, 1), put(0b10, 4), put(5, 6);  // flags, masks, widths
+  put(0, 5), put(0, 5), put(1, 3);                                   // A; A mirrored in x
+  const uint32_t rootKey = 0x3f000000;
+  ByteWriter out;
+  out.put<uint8_t>(uint8_t(MhChild::Full));
+  out.put<uint32_t>(rootKey);
+  out.put<uint64_t>(root);
+  out.put<uint64_t>(0);  // no table
+  out.put<uint8_t>(0);   // no escape
+  out.put<uint64_t>(at);
+  out.put<uint64_t>((at + 7) / 8);
+  for (uint64_t b = 0; b < (at + 7) / 8; ++b) out.put<uint8_t>(uint8_t(packBits >> (8 * b)));
+  ByteReader in(out.bytes());
+  const DeltaDag dag = DeltaDag::load(in, {4, 0, DepthMode::Closed});
+  in.expectEnd();
+  CHECK(dag.texelKey(0, 0) == rootKey + 1);
+  CHECK(dag.texelKey(1, 0) == rootKey);
+  CHECK(dag.texelKey(3, 0) == rootKey + 1);
+  CHECK(dag.texelKey(2, 0) == rootKey);
+  CHECK(dag.texelKey(0, 1) == rootKey);
+  CHECK(dag.texelKey(3, 1) == rootKey);
+  CHECK(dag.texelKey(2, 3) == rootKey);
 }
 
 }  // namespace

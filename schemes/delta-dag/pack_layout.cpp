@@ -88,7 +88,7 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
   std::unordered_map<uint32_t, std::vector<std::pair<PackFormat, uint32_t>>> groups;
   for (uint32_t c = 0; c < table.codes.size(); ++c) {
     formats.push_back(PackFormat::ofCode(table.codes[c], table.lengths[c]));
-    groups[formats[c].flags | formats[c].sharedMask << 8].push_back({formats[c], c});
+    groups[formats[c].groupKey()].push_back({formats[c], c});
   }
   for (auto& [key, group] : groups)
     std::stable_sort(group.begin(), group.end(),
@@ -120,6 +120,7 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
     for (int k = 0; k < kMhChildren; ++k)
       if (isInner(childFlag(pack.flags, k)) && absolute[pack.children[k]]) {
         f.sharedMask |= uint8_t(1u << k);
+        if (pack.symmetries[k] != kIdentity) f.symmetryMask |= uint8_t(1u << k);
         e.pointers[k] = placed[pack.children[k]];
         if (e.pointers[k] == UINT64_MAX)
           throw std::logic_error("delta-dag: a shared pack placed late");
@@ -146,7 +147,8 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
     // A table format holds the pack if its widths are at least as wide and its shift at most as
     // large; it is used where it takes fewer bits than the explicit one.
     const auto holds = [&](const PackFormat& g) {
-      if (g.shift > f.shift || g.pointerBits < f.pointerBits || g.sharedBits < f.sharedBits)
+      if (g.shift > f.shift || g.pointerBits < f.pointerBits || g.sharedBits < f.sharedBits ||
+          (f.symmetryMask & ~g.symmetryMask) != 0)
         return false;
       for (int k = 0; k < kMhChildren; ++k)
         if (hasValue(MhChild(childFlag(pack.flags, k))) &&
@@ -156,7 +158,7 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
     };
     if (chosen[id] == -2) {
       chosen[id] = -1;
-      if (const auto group = groups.find(f.flags | f.sharedMask << 8); group != groups.end())
+      if (const auto group = groups.find(f.groupKey()); group != groups.end())
         for (const auto& [g, c] : group->second) {
           if (g.bits >= f.bits) break;
           if (holds(g)) {
@@ -192,6 +194,8 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       if (shape.hasValues) out.put(f.valueBits, 6), out.put(f.shift, 5);
       if (shape.hasInner) {
         out.put(f.sharedMask, 4);
+        if (f.sharedMask) out.put(f.symmetryMask != 0, 1);
+        if (f.symmetryMask) out.put(f.symmetryMask, 4);
         if (f.hasPointerWidth()) out.put(f.pointerBits, 6);
         if (f.sharedMask) out.put(f.sharedBits, 6);
       }
@@ -204,6 +208,10 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       }
       out.put(e.pointers[k], f.pointerWidth[k]);
       layout.pointerBits += f.pointerWidth[k];
+      if (f.symmetryMask >> k & 1) {
+        out.put(pack.symmetries[k], kSymmetryBits);
+        layout.symmetryBits += kSymmetryBits;
+      }
     }
   };
   const auto place = [&](auto& self, uint32_t id) -> void {
@@ -236,6 +244,7 @@ FormatTable frequentFormats(const std::unordered_map<uint64_t, uint64_t>& counts
     f.valueBits = uint8_t(even(f.valueBits, 32 - f.shift));
     f.pointerBits = uint8_t(even(f.pointerBits, kMaxPointerBits));
     f.sharedBits = uint8_t(even(f.sharedBits, kMaxPointerBits));
+    if (f.symmetryMask) f.symmetryMask = f.sharedMask;
     rounded[f.code()] += count;
   }
   for (const auto& [code, count] : rounded) byFrequency.push_back({count, code}), left += count;

@@ -13,7 +13,8 @@
 
 namespace sb::delta_dag {
 
-constexpr uint32_t kMaxValueBits = 32, kMaxPointerBits = 57;  // what read64 reaches
+// What one read64 reaches: a pointer and a symmetry in 57 bits.
+constexpr uint32_t kMaxValueBits = 32, kMaxPointerBits = 57 - kSymmetryBits;
 
 inline bool isInner(uint32_t kind) {
   return MhChild(kind) == MhChild::Full || MhChild(kind) == MhChild::Empty;
@@ -27,14 +28,16 @@ inline uint32_t signedBits(int64_t v) {
 // The children of one inner node after the values are chosen: what hash-consing compares.
 struct Pack {
   uint8_t flags = 0;
-  std::array<int32_t, kMhChildren> values{};     // key delta of a child holding a value
-  std::array<uint32_t, kMhChildren> children{};  // pack of an inner child
+  std::array<int32_t, kMhChildren> values{};       // key delta of a child holding a value
+  std::array<uint32_t, kMhChildren> children{};    // pack of an inner child
+  std::array<Symmetry, kMhChildren> symmetries{};  // and the symmetry it is read under
 
-  bool operator==(const Pack&) const = default;
+  auto operator<=>(const Pack&) const = default;
   uint64_t hash() const {
     uint64_t h = mixBits(flags);
     for (int k = 0; k < kMhChildren; ++k)
-      h = mixBits(h ^ (uint64_t(uint32_t(values[k])) << 32 | children[k]));
+      h = mixBits(h ^ (uint64_t(uint32_t(values[k])) << 32 | children[k]) ^
+                  uint64_t(symmetries[k]) << 61);
     return h;
   }
 };
@@ -73,7 +76,7 @@ struct Layout {
   FormatTable table;
   std::unordered_map<uint64_t, uint64_t> formatCounts;  // packs per own format's code
   std::vector<uint64_t> uses;                           // packs per table format, then escapes
-  uint64_t escapes = 0, headerBits = 0, valueBits = 0, pointerBits = 0;
+  uint64_t escapes = 0, headerBits = 0, valueBits = 0, pointerBits = 0, symmetryBits = 0;
   uint64_t bits() const { return out.position(); }
   // The bits of the packs, the table and the decode table a load derives from it.
   uint64_t cost() const;
