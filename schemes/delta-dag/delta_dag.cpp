@@ -307,6 +307,7 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
     if (options.sharing && options.symmetry) {
       Pack least = pack;
       for (Symmetry u = 1; u < kSymmetries; ++u) {
+        if (turnedFlags(pack.flags, u) > least.flags) continue;  // flags compare first
         const Pack candidate = turned(pack, u, selfSymmetries);
         if (candidate < least) least = candidate, read = u, readsSame = 0;
         if (candidate == least) readsSame |= uint8_t(1u << u);
@@ -357,7 +358,9 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   // formats). The smallest layout, tables counted, is kept: a pack's format may be any of the
   // table's that holds it, so what a table saves is known only by laying it out. Codes are at
   // most as long as keeps the decode table within 1/64 of the explicit layout's bits.
-  Layout best = layOut(packs, rootPack, absolute, shared, {});
+  // The explicit layout is first only counted (its formats and bits), and written if it stays the
+  // smallest.
+  Layout best = layOut(packs, rootPack, absolute, shared, {}, LayoutPass::Count);
   const auto keepSmaller = [&](Layout next) {
     if (next.cost() < best.cost()) best = std::move(next);
   };
@@ -369,6 +372,7 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
     if (!best.table.codes.empty())
       keepSmaller(layOut(packs, rootPack, absolute, shared, refitted(best, maxBits)));
   }
+  if (best.pass == LayoutPass::Count) best = layOut(packs, rootPack, absolute, shared, {});
   stats.formats = best.table.codes.size();
   stats.escapes = best.escapes;
   stats.headerBits = best.headerBits, stats.valueBits = best.valueBits;

@@ -26,7 +26,7 @@
 //   (square_symmetry.h) of a shared child whose symmetry-mask bit is set.
 // A value v adds v << shift to the depth key its parent's path reconstructs (wrapping uint32, as
 // MMH's key deltas). Packs of a few formats dominate (leaves of one width under a node of one
-// pointer width), so a code of a few bits replaces a header of up to 35 (SSVDAG's point,
+// pointer width), so a code of a few bits replaces a header of up to 40 (SSVDAG's point,
 // Villanueva et al. 2017: spend bits by frequency).
 //
 // A pack referenced once is private to its parent. A pack and its private children's trees, in k

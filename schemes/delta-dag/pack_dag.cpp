@@ -81,6 +81,7 @@ uint8_t conjugated(uint8_t self, Symmetry f) {
 }  // namespace
 
 Symmetry normalised(Symmetry w, uint8_t self) {
+  if (self == 1) return w;  // most packs: only the identity reads them the same
   Symmetry least = w;
   for (Symmetry s = 1; s < kSymmetries; ++s)
     if (self >> s & 1) least = std::min(least, kSymmetry.then[s][w]);

@@ -25,6 +25,13 @@ Symmetry normalised(Symmetry w, uint8_t self);
 // read under w after u⁻¹, so that the turned pack read under u reads as `pack` does.
 // `selfSymmetries` holds those of the packs `pack` references.
 Pack turned(const Pack& pack, Symmetry u, const std::vector<uint8_t>& selfSymmetries);
+// The flags of `pack` turned by u.
+inline uint8_t turnedFlags(uint8_t flags, Symmetry u) {
+  uint32_t result = 0;
+  for (uint32_t k = 0; k < kMhChildren; ++k)
+    result |= childFlag(flags, int(k)) << (2 * kSymmetry.apply[u][k]);
+  return uint8_t(result);
+}
 
 // Turns each pack to the orientation most of its references read it in (a private pack's one
 // reference, the root's for the root), so that a reference carries a symmetry only where it reads

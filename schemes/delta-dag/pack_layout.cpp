@@ -80,8 +80,9 @@ uint64_t Layout::cost() const {
 }
 
 Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
-              const std::vector<uint32_t>& shared, FormatTable table) {
+              const std::vector<uint32_t>& shared, FormatTable table, LayoutPass pass) {
   Layout layout;
+  layout.pass = pass;
   // The table's formats by flags and shared mask, each group by the bits its formats take: the
   // first of a group that holds a pack is the cheapest.
   std::vector<PackFormat> formats;
@@ -112,6 +113,7 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
   // The table format each pack uses, found when it is measured and kept for when it is placed
   // (its widths are the same then): -1 explicit, -2 not yet found.
   std::vector<int32_t> chosen(packs.size(), -2);
+  std::unordered_map<uint64_t, int32_t> choiceOf;  // own format's code → table format, or -1
   const auto encode = [&](uint32_t id) {
     const Pack& pack = packs[id];
     PackEncoding e;
@@ -141,7 +143,7 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       if (hasValue(MhChild(childFlag(pack.flags, k))))
         f.valueBits = uint8_t(std::max(uint32_t(f.valueBits), signedBits(pack.values[k] >> shift)));
     if (std::max(f.pointerBits, f.sharedBits) > kMaxPointerBits)
-      throw std::length_error("delta-dag: a pointer needs more than 57 bits");
+      throw std::length_error("delta-dag: a pointer needs more than 54 bits");
     f.derive(escapeBits + f.explicitBits());
     e.ownCode = f.code();
     // A table format holds the pack if its widths are at least as wide and its shift at most as
@@ -156,16 +158,20 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
           return false;
       return true;
     };
+    // Which table formats hold a pack follows from its own format alone (a smaller shift widens
+    // every value by the difference), so the search runs once per own format.
     if (chosen[id] == -2) {
-      chosen[id] = -1;
-      if (const auto group = groups.find(f.groupKey()); group != groups.end())
-        for (const auto& [g, c] : group->second) {
-          if (g.bits >= f.bits) break;
-          if (holds(g)) {
-            chosen[id] = int32_t(c);
-            break;
+      const auto [choice, added] = choiceOf.try_emplace(e.ownCode, -1);
+      if (added)
+        if (const auto group = groups.find(f.groupKey()); group != groups.end())
+          for (const auto& [g, c] : group->second) {
+            if (g.bits >= f.bits) break;
+            if (holds(g)) {
+              choice->second = int32_t(c);
+              break;
+            }
           }
-        }
+      chosen[id] = choice->second;
     }
     if (chosen[id] >= 0) e.format = formats[chosen[id]], e.index = chosen[id];
     return e;
@@ -176,7 +182,9 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       self(self, child);
       bits += treeBits[child];
     });
-    treeBits[id] = bits + encode(id).format.bits;
+    const PackEncoding e = encode(id);
+    if (pass == LayoutPass::Count) ++layout.formatCounts[e.ownCode];
+    treeBits[id] = bits + e.format.bits;
   };
 
   BitWriter& out = layout.out;
@@ -225,9 +233,18 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       self(self, child);
     });
   };
-  for (const uint32_t id : shared) measure(measure, id), place(place, id);
-  if (placed[rootPack] == UINT64_MAX) measure(measure, rootPack), place(place, rootPack);
+  // Counted, a private tree is placed where its measure says the written one would lie.
+  uint64_t counted = 0;
+  const auto lay = [&](uint32_t id) {
+    measure(measure, id);
+    if (pass == LayoutPass::Write) return place(place, id);
+    placed[id] = counted;
+    counted += treeBits[id];
+  };
+  for (const uint32_t id : shared) lay(id);
+  if (placed[rootPack] == UINT64_MAX) lay(rootPack);
   layout.rootPosition = placed[rootPack];
+  layout.bitCount = pass == LayoutPass::Write ? out.position() : counted;
   return layout;
 }
 

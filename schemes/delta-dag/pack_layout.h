@@ -68,16 +68,21 @@ class BitWriter {
   uint64_t bits_ = 0;
 };
 
+// A layout written, or only counted: its formats and bits, with nothing written.
+enum class LayoutPass : uint8_t { Write, Count };
+
 // The packs written as private trees, each pack before the private trees of its children, the
 // first of which follows it with no pointer (delta_dag.h).
 struct Layout {
+  LayoutPass pass = LayoutPass::Write;
   BitWriter out;
+  uint64_t bitCount = 0;
   uint64_t rootPosition = 0;
   FormatTable table;
   std::unordered_map<uint64_t, uint64_t> formatCounts;  // packs per own format's code
   std::vector<uint64_t> uses;                           // packs per table format, then escapes
   uint64_t escapes = 0, headerBits = 0, valueBits = 0, pointerBits = 0, symmetryBits = 0;
-  uint64_t bits() const { return out.position(); }
+  uint64_t bits() const { return bitCount; }
   // The bits of the packs, the table and the decode table a load derives from it.
   uint64_t cost() const;
 };
@@ -87,9 +92,11 @@ struct Layout {
 std::vector<uint32_t> sharedOrder(const std::vector<Pack>& packs,
                                   const std::vector<uint32_t>& references, bool byReferences);
 // The packs of the DAG under `rootPack`; `absolute`: the packs pointed to by address, whose private
-// trees are laid out first in the order `shared`; the formats of `table`.
+// trees are laid out first in the order `shared`; the formats of `table`. A counted layout has
+// only bitCount, rootPosition and formatCounts.
 Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
-              const std::vector<uint32_t>& shared, FormatTable table);
+              const std::vector<uint32_t>& shared, FormatTable table,
+              LayoutPass pass = LayoutPass::Write);
 // A table of the formats that `counts` (packs per format code) holds at least `minCount` times
 // (the most frequent 2^maxBits − 1, fewer than kNoSymbol), with Huffman codes of at most maxBits
 // by count, the escape's by the packs left out.
