@@ -158,20 +158,16 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
           return false;
       return true;
     };
-    // Which table formats hold a pack follows from its own format alone (a smaller shift widens
-    // every value by the difference), so the search runs once per own format.
     if (chosen[id] == -2) {
-      const auto [choice, added] = choiceOf.try_emplace(e.ownCode, -1);
-      if (added)
-        if (const auto group = groups.find(f.groupKey()); group != groups.end())
-          for (const auto& [g, c] : group->second) {
-            if (g.bits >= f.bits) break;
-            if (holds(g)) {
-              choice->second = int32_t(c);
-              break;
-            }
+      chosen[id] = -1;
+      if (const auto group = groups.find(f.groupKey()); group != groups.end())
+        for (const auto& [g, c] : group->second) {
+          if (g.bits >= f.bits) break;
+          if (holds(g)) {
+            chosen[id] = int32_t(c);
+            break;
           }
-      chosen[id] = choice->second;
+        }
     }
     if (chosen[id] >= 0) e.format = formats[chosen[id]], e.index = chosen[id];
     return e;
@@ -191,7 +187,6 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
   const auto write = [&](const Pack& pack, const PackEncoding& e) {
     const PackFormat& f = e.format;
     const PackShape& shape = packShape(f.flags);
-    ++layout.formatCounts[e.ownCode];
     ++layout.uses[e.index >= 0 ? e.index : layout.table.codes.size()];
     if (e.index >= 0) {
       out.put(codes[e.index], f.headerBits);

@@ -79,7 +79,7 @@ struct Layout {
   uint64_t bitCount = 0;
   uint64_t rootPosition = 0;
   FormatTable table;
-  std::unordered_map<uint64_t, uint64_t> formatCounts;  // packs per own format's code
+  std::unordered_map<uint64_t, uint64_t> formatCounts;  // counted: packs per own format's code
   std::vector<uint64_t> uses;                           // packs per table format, then escapes
   uint64_t escapes = 0, headerBits = 0, valueBits = 0, pointerBits = 0, symmetryBits = 0;
   uint64_t bits() const { return bitCount; }
