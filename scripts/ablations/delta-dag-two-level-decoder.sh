@@ -5,21 +5,11 @@
 # delta-dag-two-level-decoder.patch; the tangle closed at 16K², delta-dag alone, the two builds
 # alternating three times: size and point lookups (ns, one thread) of each run.
 #   scripts/ablations/delta-dag-two-level-decoder.sh [resolution, default 16K]
-set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-repo=$(git -C "$here" rev-parse --show-toplevel)
+# shellcheck source=scripts/ablations/patched-build.sh
+source "$(dirname "$0")/patched-build.sh"
 resolution=${1:-16K}
-work=$(mktemp -d)
-trap 'for v in one two; do git -C "$repo" worktree remove --force "$work/$v" 2>/dev/null; done; rm -rf "$work"' EXIT
-for v in one two; do
-  git -C "$repo" worktree add --detach "$work/$v" 69a54d0 >/dev/null
-  [ $v = one ] || git -C "$work/$v" apply "$here/delta-dag-two-level-decoder.patch"
-  if ! { cmake -S "$work/$v" -B "$work/$v-build" -DCMAKE_BUILD_TYPE=Release &&
-    cmake --build "$work/$v-build" --target shadowbench -j"$(nproc)"; } >"$work/$v.log" 2>&1; then
-    tail -n 40 "$work/$v.log" >&2
-    exit 1
-  fi
-done
+build_at one 69a54d0
+build_at two 69a54d0 delta-dag-two-level-decoder.patch
 for run in 1 2 3; do
   for v in one two; do
     echo "run $run, $v-level table:"

@@ -7,27 +7,16 @@
 # in different squares, whose side SB_MMH_MATCH_SQUARE gives. It is not a scheme parameter, so
 # that the registry's cells (and their records) stay as they are.
 #   scripts/ablations/mmh-part-matching.sh [--max-resolution 16K] [records folder]
-set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-repo=$(git -C "$here" rev-parse --show-toplevel)
+# shellcheck source=scripts/ablations/patched-build.sh
+source "$(dirname "$0")/patched-build.sh"
 resolutions="16K 64K"
 if [[ ${1:-} == --max-resolution ]]; then
   [[ $2 == 16K ]] && resolutions=16K
   shift 2
 fi
 out=$(realpath -m "${1:-results/ablations/mmh-part-matching}")
-work=$(mktemp -d)
-trap 'git -C "$repo" worktree remove --force "$work/src" 2>/dev/null; rm -rf "$work"' EXIT
-git -C "$repo" worktree add --detach "$work/src" a0d5eac >/dev/null
-git -C "$work/src" apply "$here/mmh-match-square.patch"
-launcher=()
-command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-if ! { cmake -S "$work/src" -B "$work/build" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" &&
-  cmake --build "$work/build" --target shadowbench -j"$(nproc)"; } >"$work/build.log" 2>&1; then
-  tail -n 40 "$work/build.log" >&2
-  exit 1
-fi
-sb=$work/build/harness/shadowbench
+build_at mmh-match-square a0d5eac mmh-match-square.patch
+sb=$work/mmh-match-square-build/harness/shadowbench
 for r in $resolutions; do
   for build in "city:full closed" "terrain:full closed" "forest:full static"; do
     read -r scene mode <<<"$build"
