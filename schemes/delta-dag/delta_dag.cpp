@@ -51,6 +51,7 @@ DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t root
       bits_(bits) {
   for (size_t c = 0; c < table_.codes.size(); ++c)
     formats_.push_back(PackFormat::ofCode(table_.codes[c], table_.lengths[c]));
+  formatCount_ = uint32_t(formats_.size());
   if (table_.lengths.empty()) {
     decode_ = {0};  // every pack starts with its explicit format
   } else {

@@ -192,13 +192,14 @@ static_assert(sizeof(FormatEntry) == 6);
 class DeltaDag {
  public:
   // Where a walk stands: the pack of an inner node at bit `position` (none for a leaf), read under
-  // `symmetry`, and the key its path gives.
+  // `symmetry`, and the key its path gives. 16 bytes, so that the skip table reaches a level
+  // deeper within its budget.
   struct Walk {
     uint64_t position;
+    uint32_t key;
     MhChild kind;
     Symmetry symmetry;
-    int level;
-    uint32_t key;
+    uint8_t level;
   };
 
   DeltaDag() = default;
@@ -209,16 +210,15 @@ class DeltaDag {
   int levels() const { return levels_; }
   uint64_t bits() const { return bits_; }
 
-  Walk rootWalk() const { return {rootPosition_, rootKind_, kIdentity, 0, rootKey_}; }
+  Walk rootWalk() const { return {rootPosition_, rootKey_, rootKind_, kIdentity, 0}; }
 
   // One step of a walk to child k of its inner node; false where that child is missing (its
   // square is answered by the walk's key).
   bool step(Walk& walk, int k) const {
     const uint64_t word = read64(walk.position);
     const uint32_t symbol = decode_[word & codeMask_];
-    return symbol < formats_.size()
-               ? step(formats_[symbol], walk, k)
-               : step(explicitFormat(word >> escapeBits_, escapeBits_), walk, k);
+    return symbol < formatCount_ ? step(formats_[symbol], walk, k)
+                                 : step(explicitFormat(word >> escapeBits_, escapeBits_), walk, k);
   }
 
   // Where a walk to texel (i, j) stands at the skip level (or above it, where it ended).
@@ -287,7 +287,7 @@ class DeltaDag {
   // The format of the pack whose first bits `word` holds.
   PackFormat format(uint64_t word) const {
     const uint32_t symbol = decode_[word & codeMask_];
-    if (symbol < formats_.size()) return formats_[symbol];
+    if (symbol < formatCount_) return formats_[symbol];
     return explicitFormat(word >> escapeBits_, escapeBits_);
   }
   // An explicit format from its first bits, after `escapeBits` bits of escape code.
@@ -351,12 +351,15 @@ class DeltaDag {
   uint64_t rootPosition_ = 0;
   FormatTable table_;
   std::vector<PackFormat> formats_;  // the table's, each with headerBits its code's length
+  uint32_t formatCount_ = 0;         // formats_.size(), kept so that a step need not divide
   uint32_t escapeBits_ = 0;
   uint64_t codeMask_ = 0;         // the bits that decode a code: 2^(the longest code) − 1
   std::vector<uint16_t> decode_;  // the symbol each value of those bits starts (prefix_code.h)
   std::vector<uint8_t> bytes_;    // bits_ bits, then 8 bytes of padding
   uint64_t bits_ = 0;
 };
+
+static_assert(sizeof(DeltaDag::Walk) == 16);
 
 // What the encode step measured, for the build record's counters.
 struct Statistics {
