@@ -103,6 +103,26 @@ TEST_CASE("every texel's key lies in its interval, for every option", "[delta-da
             }
 }
 
+// The README's skip table: walks of 16 bytes to every square of the deepest level whose table
+// takes at most 1/64 of the packs' bytes (walks of 24 bytes, as before c1b7111, stopped a level
+// higher where that 1/64 lies between 16 and 24 bytes a square of the next level).
+TEST_CASE("the skip table is the deepest level within 1/64 of the packs, 16 bytes a square",
+          "[delta-dag]") {
+  for (uint64_t seed = 1; seed <= 4; ++seed) {
+    const SyntheticMap map = SyntheticMap::random(256, DepthMode::Closed, seed);
+    const DeltaDag dag = delta_dag::encode(hierarchyOf(map, 16), {}).dag;
+    uint64_t skipBytes = 0;
+    for (const auto& [part, bytes] : dag.size())
+      if (part == "skip table") skipBytes = bytes;
+    const uint64_t budget = dag.bits() / 8 / 64;
+    int level = 0;
+    while (level < dag.levels() && uint64_t(16) << (2 * (level + 1)) <= budget) ++level;
+    INFO("seed " << seed << ", packs " << dag.bits() / 8 << " bytes");
+    CHECK(level >= 2);
+    CHECK(skipBytes == uint64_t(16) << (2 * level));
+  }
+}
+
 TEST_CASE("a uniform map is one leaf root", "[delta-dag]") {
   const SyntheticMap map = SyntheticMap::uniform(32, 0.25f, 0.75f);
   const delta_dag::Encoded encoded = delta_dag::encode(hierarchyOf(map, 16), {});
