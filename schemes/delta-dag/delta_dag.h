@@ -236,17 +236,23 @@ class DeltaDag {
 
   // The keys of the texels of `rect` in one walk (issue 13): down to the lowest node holding the
   // whole rectangle, then into each child it overlaps; a missing child or a leaf gives its whole
-  // overlap one key: visit(key, texels) once for it.
+  // overlap one key: visit(key, texels) once for it. A rectangle across the edge of a skip-table
+  // square (a 9×9 kernel, 6 % of them where the squares are 256 texels wide) is walked from each
+  // of the at most 4 squares it overlaps, rather than from the node above them all.
   template <class Visit>
   void forEachKeyBlock(const TexelRect& rect, Visit&& visit) const {
-    const int common = levels_ - std::bit_width((rect.i0 ^ rect.i1) | (rect.j0 ^ rect.j1));
-    Walk walk = common >= skipLevel_ ? skipWalk(rect.i0, rect.j0) : rootWalk();
-    while (walk.kind != MhChild::Leaf && walk.level < common)
-      if (!step(walk, mhChildIndex(rect.i0, rect.j0, levels_ - walk.level - 1)))
-        return visit(walk.key, rect.texels());
-    if (walk.kind == MhChild::Leaf) return visit(walk.key, rect.texels());
-    const uint32_t corner = ~((uint32_t(1) << (levels_ - walk.level)) - 1);
-    walkRect(walk, rect.i0 & corner, rect.j0 & corner, rect, visit);
+    const uint32_t shift = uint32_t(levels_ - skipLevel_);
+    const uint32_t x0 = rect.i0 >> shift, x1 = rect.i1 >> shift;
+    const uint32_t y0 = rect.j0 >> shift, y1 = rect.j1 >> shift;
+    if (uint64_t(x1 - x0 + 1) * (y1 - y0 + 1) > 4) return keyBlocksFrom(rootWalk(), rect, visit);
+    const uint32_t side = uint32_t(1) << shift;
+    for (uint32_t y = y0; y <= y1; ++y)
+      for (uint32_t x = x0; x <= x1; ++x) {
+        const TexelRect part{std::max(rect.i0, x << shift), std::max(rect.j0, y << shift),
+                             std::min(rect.i1, (x << shift) + (side - 1)),
+                             std::min(rect.j1, (y << shift) + (side - 1))};
+        keyBlocksFrom(skip_[(size_t(y) << skipLevel_) + x], part, visit);
+      }
   }
 
   SizeBreakdown size() const;
@@ -256,6 +262,18 @@ class DeltaDag {
   static DeltaDag load(ByteReader& in, const MapInfo& map);
 
  private:
+  // `rect`'s keys from a walk standing above it.
+  template <class Visit>
+  void keyBlocksFrom(Walk walk, const TexelRect& rect, Visit& visit) const {
+    const int common = levels_ - std::bit_width((rect.i0 ^ rect.i1) | (rect.j0 ^ rect.j1));
+    while (walk.kind != MhChild::Leaf && walk.level < common)
+      if (!step(walk, mhChildIndex(rect.i0, rect.j0, levels_ - walk.level - 1)))
+        return visit(walk.key, rect.texels());
+    if (walk.kind == MhChild::Leaf) return visit(walk.key, rect.texels());
+    const uint32_t corner = ~((uint32_t(1) << (levels_ - walk.level)) - 1);
+    walkRect(walk, rect.i0 & corner, rect.j0 & corner, rect, visit);
+  }
+
   // A step with the format of the walk's pack, to the child the walk's symmetry turns k into.
   bool step(const PackFormat& f, Walk& walk, int k) const {
     const uint32_t s = kSymmetry.apply[walk.symmetry][k];

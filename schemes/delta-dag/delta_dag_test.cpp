@@ -4,6 +4,7 @@
 // interface tests check it like every scheme; these pin what is its own.)
 #include <bit>
 #include <limits>
+#include <map>
 
 #include <catch2/catch.hpp>
 
@@ -120,6 +121,30 @@ TEST_CASE("the skip table is the deepest level within 1/64 of the packs, 16 byte
     INFO("seed " << seed << ", packs " << dag.bits() / 8 << " bytes");
     CHECK(level >= 2);
     CHECK(skipBytes == uint64_t(16) << (2 * level));
+  }
+}
+
+// A kernel walk gives each texel of its rectangle the key its point walk gives: rectangles
+// within one skip-table square, across the edges of 2 or 4 (walked from each), and across more
+// (walked from the root), on maps whose skip table is at level 2 or deeper.
+TEST_CASE("a kernel walk gives every texel of its rectangle its point walk's key", "[delta-dag]") {
+  uint64_t state = 13;
+  for (uint64_t seed = 1; seed <= 4; ++seed) {
+    const SyntheticMap map = SyntheticMap::random(256, DepthMode::Closed, seed);
+    const DeltaDag dag = delta_dag::encode(hierarchyOf(map, 16), {}).dag;
+    for (int trial = 0; trial < 400; ++trial) {
+      const uint32_t width = 1 + uint32_t(nextRandom(state) % (trial % 4 == 0 ? 200 : 12));
+      const uint32_t height = 1 + uint32_t(nextRandom(state) % (trial % 4 == 0 ? 200 : 12));
+      const uint32_t i0 = uint32_t(nextRandom(state) % (257 - width));
+      const uint32_t j0 = uint32_t(nextRandom(state) % (257 - height));
+      const TexelRect rect{i0, j0, i0 + width - 1, j0 + height - 1};
+      std::map<uint32_t, uint64_t> walked, pointwise;
+      dag.forEachKeyBlock(rect, [&](uint32_t key, uint64_t texels) { walked[key] += texels; });
+      for (uint32_t j = rect.j0; j <= rect.j1; ++j)
+        for (uint32_t i = rect.i0; i <= rect.i1; ++i) ++pointwise[dag.texelKey(i, j)];
+      INFO("seed " << seed << ", rect " << i0 << ", " << j0 << ", " << width << " × " << height);
+      REQUIRE(walked == pointwise);
+    }
   }
 }
 
