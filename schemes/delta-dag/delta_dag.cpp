@@ -64,9 +64,10 @@ DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t root
 }
 
 void DeltaDag::buildSkipTable() {
+  const uint64_t packBytes = bits_ / 8;
+  const uint64_t budget = std::max(packBytes / 64, std::min<uint64_t>(64 << 10, packBytes / 8));
   skipLevel_ = 0;
-  while (skipLevel_ < levels_ &&
-         (uint64_t(sizeof(Walk)) << (2 * (skipLevel_ + 1))) <= (bits_ / 8) / 64)
+  while (skipLevel_ < levels_ && (uint64_t(sizeof(Walk)) << (2 * (skipLevel_ + 1))) <= budget)
     ++skipLevel_;
   const uint32_t side = uint32_t(1) << skipLevel_;
   skip_.assign(size_t(side) * side, rootWalk());

@@ -358,7 +358,9 @@ class DeltaDag {
 
   // DAG-MH's skip list (Scandolo & Eisemann 2021 §3.7), derived from the packs: the walk to
   // every square of the skip level, row by row, so that a lookup starts there. The level is the
-  // deepest whose table takes at most 1/64 of the packs' bytes.
+  // deepest whose table takes at most 1/64 of the packs' bytes, or DAG-MH's 64 KiB (its skip
+  // list, level 6) where that is more and at most 1/8 of them: a small structure's walks would
+  // otherwise start 2 or 3 levels higher than DAG-MH's (the terrain at 16K²: level 3).
   void buildSkipTable();
 
   int levels_ = 0;

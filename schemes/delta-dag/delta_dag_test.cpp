@@ -105,28 +105,34 @@ TEST_CASE("every texel's key lies in its interval, for every option", "[delta-da
 }
 
 // The README's skip table: walks of 16 bytes to every square of the deepest level whose table
-// takes at most 1/64 of the packs' bytes (walks of 24 bytes, as before c1b7111, stopped a level
-// higher where that 1/64 lies between 16 and 24 bytes a square of the next level).
-TEST_CASE("the skip table is the deepest level within 1/64 of the packs, 16 bytes a square",
+// takes at most 1/64 of the packs' bytes, or 64 KiB where that is more and at most 1/8 of them.
+// Random maps of 256² (packs of about 25 KB: 1/8 of them), 1024² (about 530 KB: 64 KiB, which
+// 1/8 of them would also allow) and 2048² (about 2.2 MB: 64 KiB, where 1/8 would allow 256 KiB).
+TEST_CASE("the skip table is the deepest level within its budget, 16 bytes a square",
           "[delta-dag]") {
-  for (uint64_t seed = 1; seed <= 4; ++seed) {
-    const SyntheticMap map = SyntheticMap::random(256, DepthMode::Closed, seed);
+  const std::pair<uint64_t, uint32_t> maps[] = {{1, 256},  {2, 256},  {3, 256}, {4, 256},
+                                                {1, 1024}, {2, 1024}, {1, 2048}};
+  for (const auto& [seed, resolution] : maps) {
+    const SyntheticMap map = SyntheticMap::random(resolution, DepthMode::Closed, seed);
     const DeltaDag dag = delta_dag::encode(hierarchyOf(map, 16), {}).dag;
     uint64_t skipBytes = 0;
     for (const auto& [part, bytes] : dag.size())
       if (part == "skip table") skipBytes = bytes;
-    const uint64_t budget = dag.bits() / 8 / 64;
+    const uint64_t packBytes = dag.bits() / 8;
+    const uint64_t budget = packBytes / 64 > 65536  ? packBytes / 64
+                            : packBytes / 8 < 65536 ? packBytes / 8
+                                                    : 65536;
     int level = 0;
     while (level < dag.levels() && uint64_t(16) << (2 * (level + 1)) <= budget) ++level;
-    INFO("seed " << seed << ", packs " << dag.bits() / 8 << " bytes");
-    CHECK(level >= 2);
+    INFO("seed " << seed << ", R " << resolution << ", packs " << packBytes << " bytes");
+    CHECK(level >= 3);
     CHECK(skipBytes == uint64_t(16) << (2 * level));
   }
 }
 
 // A kernel walk gives each texel of its rectangle the key its point walk gives: rectangles
 // within one skip-table square, across the edges of 2 or 4 (walked from each), and across more
-// (walked from the root), on maps whose skip table is at level 2 or deeper.
+// (walked from the root), on maps whose skip table is at level 3.
 TEST_CASE("a kernel walk gives every texel of its rectangle its point walk's key", "[delta-dag]") {
   uint64_t state = 13;
   for (uint64_t seed = 1; seed <= 4; ++seed) {
