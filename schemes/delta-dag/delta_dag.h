@@ -251,7 +251,7 @@ class DeltaDag {
         const TexelRect part{std::max(rect.i0, x << shift), std::max(rect.j0, y << shift),
                              std::min(rect.i1, (x << shift) + (side - 1)),
                              std::min(rect.j1, (y << shift) + (side - 1))};
-        keyBlocksFrom(skip_[(size_t(y) << skipLevel_) + x], part, visit);
+        keyBlocksFrom(skipWalk(part.i0, part.j0), part, visit);
       }
   }
 
