@@ -41,11 +41,13 @@ int64_t simplestIn(int64_t lo, int64_t hi) {
 }
 
 DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
-                   FormatTable table, std::vector<uint8_t> bytes, uint64_t bits, bool validated)
+                   uint32_t addressUnit, FormatTable table, std::vector<uint8_t> bytes,
+                   uint64_t bits, bool validated)
     : levels_(levels),
       rootKind_(rootKind),
       rootKey_(rootKey),
       rootPosition_(rootPosition),
+      addressUnit_(addressUnit),
       table_(std::move(table)),
       bytes_(std::move(bytes)),
       bits_(bits) {
@@ -90,9 +92,10 @@ uint32_t PackFormat::explicitBits() const {
 }
 
 SizeBreakdown DeltaDag::size() const {
-  // The root's kind, key and position; the table with its codes' lengths, the escape's; the
-  // packs' bits (whole bytes; the padding is not part of the structure); what loading derives.
-  return {{"root", 1 + 4 + 8},
+  // The root's kind, key and position, the address unit; the table with its codes' lengths, the
+  // escape's; the packs' bits (whole bytes; the padding is not part of the structure); what loading
+  // derives.
+  return {{"root", 1 + 4 + 8 + 1},
           {"pack formats", formats_.size() * sizeof(FormatEntry) + 1},
           {"packs", (bits_ + 7) / 8},
           {"format decode table", decode_.size() * sizeof(uint16_t)},
@@ -103,6 +106,7 @@ void DeltaDag::save(ByteWriter& out) const {
   out.put<uint8_t>(uint8_t(rootKind_));
   out.put<uint32_t>(rootKey_);
   out.put<uint64_t>(rootPosition_);
+  out.put<uint8_t>(uint8_t(addressUnit_));
   std::vector<FormatEntry> entries;
   for (size_t c = 0; c < table_.codes.size(); ++c)
     entries.push_back(
@@ -154,6 +158,10 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   if (rootKey > 0x7f800000u)
     throw FormatError(fmt::format("delta-dag: root key {:#x} is not a depth", rootKey));
   const uint64_t rootPosition = in.get<uint64_t>("root position");
+  const uint32_t addressUnit = in.get<uint8_t>("address unit");
+  if (addressUnit > kMaxAddressUnit)
+    throw FormatError(fmt::format("delta-dag: address unit 2^{} bits, at most 2^{}", addressUnit,
+                                  kMaxAddressUnit));
   FormatTable table;
   const std::vector<FormatEntry> entries = in.getArray<FormatEntry>("pack formats");
   for (size_t c = 0; c < entries.size(); ++c) {
@@ -188,10 +196,11 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   bytes.resize(byteCount + 8, 0);
   if (bits % 8 != 0 && (bytes[byteCount - 1] >> (bits % 8)) != 0)
     throw FormatError("delta-dag: bits past the last pack are set");
-  if (rootKind == MhChild::Leaf && (rootPosition != 0 || bits != 0 || !table.lengths.empty()))
+  if (rootKind == MhChild::Leaf &&
+      (rootPosition != 0 || addressUnit != 0 || bits != 0 || !table.lengths.empty()))
     throw FormatError("delta-dag: a leaf root with packs");
-  DeltaDag dag(levels, rootKind, rootKey, rootPosition, std::move(table), std::move(bytes), bits,
-               false);
+  DeltaDag dag(levels, rootKind, rootKey, rootPosition, addressUnit, std::move(table),
+               std::move(bytes), bits, false);
   if (rootKind == MhChild::Leaf) {
     dag.buildSkipTable();
     return dag;
@@ -232,7 +241,8 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
       const uint64_t pointer =
           dag.readUnsigned(at + (hasValue(kind) ? f.valueBits : 0), f.pointerWidth[k]);
       // Children may lie anywhere: the budget stops a cycle.
-      const uint64_t target = f.sharedMask >> k & 1 ? pointer : position + f.bits + pointer;
+      const uint64_t target =
+          f.sharedMask >> k & 1 ? pointer << addressUnit : position + f.bits + pointer;
       below = std::max(below, self(self, target, budget - 1));
     }
     heights.emplace(position, below + 1);
@@ -338,7 +348,7 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
 
   if (rootPack == kNoPack)
     return {
-        DeltaDag(hierarchy.levels, MhChild::Leaf, rootKey, 0, {}, std::vector<uint8_t>(8, 0), 0),
+        DeltaDag(hierarchy.levels, MhChild::Leaf, rootKey, 0, 0, {}, std::vector<uint8_t>(8, 0), 0),
         stats};
   if (options.sharing && options.symmetry)
     stats.packSplits = orient(packs, selfSymmetries, {rootPack, rootSymmetry});
@@ -362,25 +372,36 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   // most as long as keeps the decode table within 1/64 of the explicit layout's bits.
   // The explicit layout is first only counted (its formats and bits), and written if it stays the
   // smallest.
-  Layout best = layOut(packs, rootPack, absolute, shared, {}, LayoutPass::Count);
+  // Shared addresses count the unit their places in that layout (with addresses in bits) make the
+  // cheapest (pack_layout.h), and every layout after it uses that unit.
+  Layout best = layOut(packs, rootPack, absolute, shared, 0, {}, LayoutPass::Count);
+  if (options.addressUnits) {
+    std::vector<uint32_t> sharedReferences;
+    for (const uint32_t id : shared) sharedReferences.push_back(references[id]);
+    const uint32_t unit =
+        cheapestAddressUnit(best.sharedPositions, sharedReferences, kMaxAddressUnit);
+    if (unit != 0) best = layOut(packs, rootPack, absolute, shared, unit, {}, LayoutPass::Count);
+  }
+  const uint32_t unit = best.addressUnit;
   const auto keepSmaller = [&](Layout next) {
     if (next.cost() < best.cost()) best = std::move(next);
   };
   const uint32_t maxBits =
       std::min<uint32_t>(kMaxCodeBits, std::bit_width(best.bits() / (64 * 16)) - 1);
   if (options.formatTable && best.bits() >= 64 * 16 * 16) {
-    keepSmaller(layOut(packs, rootPack, absolute, shared,
+    keepSmaller(layOut(packs, rootPack, absolute, shared, unit,
                        frequentFormats(best.formatCounts, kMinFormatUses, maxBits)));
     if (!best.table.codes.empty())
-      keepSmaller(layOut(packs, rootPack, absolute, shared, refitted(best, maxBits)));
+      keepSmaller(layOut(packs, rootPack, absolute, shared, unit, refitted(best, maxBits)));
   }
-  if (best.pass == LayoutPass::Count) best = layOut(packs, rootPack, absolute, shared, {});
+  if (best.pass == LayoutPass::Count) best = layOut(packs, rootPack, absolute, shared, unit, {});
   stats.formats = best.table.codes.size();
   stats.escapes = best.escapes;
   stats.headerBits = best.headerBits, stats.valueBits = best.valueBits;
   stats.pointerBits = best.pointerBits, stats.symmetryBits = best.symmetryBits;
+  stats.addressUnit = best.addressUnit, stats.paddingBits = best.paddingBits;
   const uint64_t bits = best.bits();
-  return {DeltaDag(hierarchy.levels, MhChild::Full, rootKey, best.rootPosition,
+  return {DeltaDag(hierarchy.levels, MhChild::Full, rootKey, best.rootPosition, best.addressUnit,
                    std::move(best.table), best.out.release(), bits),
           stats};
 }

@@ -24,6 +24,9 @@
 //   pointer if it is inner: a shared child's address, or a private child's distance after the
 //   pack's end (none for the first private child, which starts there), then the 3-bit symmetry
 //   (square_symmetry.h) of a shared child whose symmetry-mask bit is set.
+// A shared child's address counts units of 2^u bits, u chosen per structure (0 to
+// kMaxAddressUnit): each shared pack's private tree starts at a multiple of the unit, padded with
+// zeros, so every reference to it is u bits shorter.
 // A value v adds v << shift to the depth key its parent's path reconstructs (wrapping uint32, as
 // MMH's key deltas). Packs of a few formats dominate (leaves of one width under a node of one
 // pointer width), so a code of a few bits replaces a header of up to 40 (SSVDAG's point,
@@ -77,7 +80,11 @@ struct Options {
   bool formatTable = true;   // a table of frequent formats; false: every format explicit
   bool symmetry = true;      // packs equal under a mirroring or transposition are one pack
   bool copies = true;        // shared packs smaller than the addresses they save are copied
+  bool addressUnits = true;  // shared addresses in the unit that takes fewest bits; false: bits
 };
+
+// The widest unit of a shared address: 2^5 bits.
+constexpr uint32_t kMaxAddressUnit = 5;
 
 // The number a ValueChoice::Simplest value takes in [lo, hi] (lo ≤ hi): 0 if the interval holds
 // 0, else the unique number with the most trailing zero bits.
@@ -203,8 +210,9 @@ class DeltaDag {
   };
 
   DeltaDag() = default;
-  DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition, FormatTable table,
-           std::vector<uint8_t> bytes, uint64_t bits, bool validated = true);
+  DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
+           uint32_t addressUnit, FormatTable table, std::vector<uint8_t> bytes, uint64_t bits,
+           bool validated = true);
 
   uint32_t resolution() const { return uint32_t(1) << levels_; }
   int levels() const { return levels_; }
@@ -291,7 +299,7 @@ class DeltaDag {
     if (child != MhChild::Leaf) {
       const uint64_t pointer = field & ((uint64_t(1) << pointerBits) - 1);
       if (f.sharedMask >> s & 1) {
-        walk.position = pointer;
+        walk.position = pointer << addressUnit_;
         if (f.symmetryMask >> s & 1)
           walk.symmetry = kSymmetry.then[field >> pointerBits & 7][walk.symmetry];
       } else {
@@ -369,6 +377,7 @@ class DeltaDag {
   MhChild rootKind_ = MhChild::Leaf;  // Leaf (one key for the map) or Full (a pack below)
   uint32_t rootKey_ = 0;
   uint64_t rootPosition_ = 0;
+  uint32_t addressUnit_ = 0;  // a shared address counts 2^addressUnit_ bits
   FormatTable table_;
   std::vector<PackFormat> formats_;  // the table's, each with headerBits its code's length
   uint32_t formatCount_ = 0;         // formats_.size(), kept so that a step need not divide
@@ -391,6 +400,8 @@ struct Statistics {
   uint64_t sharedPacks = 0;           // of the packs stored, those referenced by more than one
   uint64_t formats = 0, escapes = 0;  // formats in the table, packs whose format is explicit
   uint64_t headerBits = 0, valueBits = 0, pointerBits = 0, symmetryBits = 0;
+  uint32_t addressUnit = 0;  // a shared address counts 2^addressUnit bits
+  uint64_t paddingBits = 0;  // before shared packs, to start them on a unit
 };
 
 struct Encoded {

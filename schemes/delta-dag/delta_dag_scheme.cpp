@@ -15,7 +15,8 @@ Options optionsOf(const ParamValues& params) {
           params.choice("addresses") == "by-references",
           params.choice("formats") == "table",
           params.choice("symmetry") == "mirrors",
-          params.choice("copies") == "cheaper"};
+          params.choice("copies") == "cheaper",
+          params.choice("address-unit") == "cheapest"};
 }
 
 std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Options& options,
@@ -35,6 +36,8 @@ std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Optio
   context.count("value bits", s.valueBits);
   context.count("pointer bits", s.pointerBits);
   context.count("symmetry bits", s.symmetryBits);
+  context.count("address unit bits", uint64_t(1) << s.addressUnit);
+  context.count("padding bits", s.paddingBits);
   return std::make_unique<delta_dag::Decoder>(std::move(encoded.dag));
 }
 
@@ -80,7 +83,12 @@ SchemeInfo deltaDag() {
                         "cheaper copies a shared pack into each pack that references it where its "
                         "subtree takes fewer bits than the addresses it saves; none keeps every "
                         "equal pack shared",
-                        "cheaper", {"cheaper", "none"}, {"cheaper", "none"})};
+                        "cheaper", {"cheaper", "none"}, {"cheaper", "none"}),
+      ParamSpec::choice("address-unit",
+                        "cheapest counts shared addresses in the unit of 1 to 32 bits that takes "
+                        "the fewest bits, each shared subtree padded to start on one; bit counts "
+                        "them in bits",
+                        "cheapest", {"cheapest", "bit"}, {"cheapest", "bit"})};
   setMhBuilds(info, {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
                        return [options = optionsOf(params)](MultiresHierarchy hierarchy,
                                                             BuildContext& context) {

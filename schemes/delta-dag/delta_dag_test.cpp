@@ -99,7 +99,7 @@ TEST_CASE("every texel's key lies in its interval, for every option", "[delta-da
               const delta_dag::Statistics& s = encoded.statistics;
               CHECK(s.dagPacks <= s.treePacks);
               CHECK(encoded.dag.bits() ==
-                    s.headerBits + s.valueBits + s.pointerBits + s.symmetryBits);
+                    s.headerBits + s.valueBits + s.pointerBits + s.symmetryBits + s.paddingBits);
               if (!symmetry || !sharing) CHECK(s.symmetryBits == 0);
             }
 }
@@ -253,6 +253,7 @@ TEST_CASE("a hand-written layout with a table and an escape reads as the README 
   out.put<uint8_t>(uint8_t(MhChild::Full));
   out.put<uint32_t>(rootKey);
   out.put<uint64_t>(0);
+  out.put<uint8_t>(0);  // addresses in bits
   out.put<uint64_t>(1);
   const uint64_t entry = format | uint64_t(1) << delta_dag::kFormatCodeBits;
   for (int b = 0; b < 6; ++b) out.put<uint8_t>(uint8_t(entry >> (8 * b)));
@@ -289,6 +290,7 @@ TEST_CASE("a hand-written reference read mirrored reads as the README says", "[d
   out.put<uint8_t>(uint8_t(MhChild::Full));
   out.put<uint32_t>(rootKey);
   out.put<uint64_t>(root);
+  out.put<uint8_t>(0);   // addresses in bits
   out.put<uint64_t>(0);  // no table
   out.put<uint8_t>(0);   // no escape
   out.put<uint64_t>(at);
@@ -304,6 +306,52 @@ TEST_CASE("a hand-written reference read mirrored reads as the README says", "[d
   CHECK(dag.texelKey(0, 1) == rootKey);
   CHECK(dag.texelKey(3, 1) == rootKey);
   CHECK(dag.texelKey(2, 3) == rootKey);
+}
+
+// The README's shared addresses in units, by hand, with units of 2^3 bits: shared packs A at bit 0
+// (child 0 a leaf of value 1) and B, after 3 bits of padding, at bit 24 (child 3 a leaf of value
+// 1), and the root's pack after them, both children empty and shared: A at address 0, B at 3.
+TEST_CASE("a hand-written layout with addresses in 8-bit units reads as the README says",
+          "[delta-dag]") {
+  std::vector<uint8_t> packBytes(9, 0);  // 68 bits
+  uint64_t at = 0;
+  const auto put = [&](uint64_t value, uint32_t bits) {
+    for (uint32_t b = 0; b < bits; ++b, ++at)
+      packBytes[at / 8] |= uint8_t((value >> b & 1) << at % 8);
+  };
+  put(0b11, 8), put(2, 6), put(0, 5), put(1, 2);        // A
+  put(0, 3);                                            // padding to bit 24
+  put(0b11000000, 8), put(2, 6), put(0, 5), put(1, 2);  // B
+  const uint64_t root = at;
+  put(0b1010, 8), put(0b11, 4), put(0, 1), put(2, 6);  // flags, shared mask, not turned, width
+  put(0, 2), put(3, 2);                                // A; B at 3 units of 8 bits
+  const uint32_t rootKey = 0x3f000000;
+  const auto file = [&](uint8_t addressUnit) {
+    ByteWriter out;
+    out.put<uint8_t>(uint8_t(MhChild::Full));
+    out.put<uint32_t>(rootKey);
+    out.put<uint64_t>(root);
+    out.put<uint8_t>(addressUnit);
+    out.put<uint64_t>(0);  // no table
+    out.put<uint8_t>(0);   // no escape
+    out.put<uint64_t>(at);
+    out.put<uint64_t>(packBytes.size());
+    for (const uint8_t byte : packBytes) out.put<uint8_t>(byte);
+    return out;
+  };
+  const ByteWriter out = file(3);
+  ByteReader in(out.bytes());
+  const DeltaDag dag = DeltaDag::load(in, {4, 0, DepthMode::Closed});
+  in.expectEnd();
+  CHECK(dag.texelKey(0, 0) == rootKey + 1);
+  CHECK(dag.texelKey(1, 0) == rootKey);
+  CHECK(dag.texelKey(3, 1) == rootKey + 1);
+  CHECK(dag.texelKey(2, 0) == rootKey);
+  CHECK(dag.texelKey(2, 1) == rootKey);
+  CHECK(dag.texelKey(0, 3) == rootKey);
+  const ByteWriter wide = file(delta_dag::kMaxAddressUnit + 1);
+  ByteReader wideIn(wide.bytes());
+  CHECK_THROWS_AS(DeltaDag::load(wideIn, {4, 0, DepthMode::Closed}), FormatError);
 }
 
 }  // namespace

@@ -73,6 +73,23 @@ uint8_t widthFor(uint8_t width, uint64_t pointer) {
 
 }  // namespace
 
+uint32_t cheapestAddressUnit(const std::vector<uint64_t>& positions,
+                             const std::vector<uint32_t>& references, uint32_t maxUnit) {
+  uint32_t cheapest = 0;
+  uint64_t fewest = UINT64_MAX;
+  for (uint32_t unit = 0; unit <= maxUnit; ++unit) {
+    // Counted in half bits: each private tree is padded by (2^unit − 1) / 2 bits on average.
+    const uint64_t padding = (uint64_t(1) << unit) - 1;
+    uint64_t halfBits = 0;
+    for (size_t i = 0; i < positions.size(); ++i) {
+      const uint64_t padded = positions[i] + i * padding / 2;
+      halfBits += padding + 2 * uint64_t(references[i]) * widthFor(0, padded >> unit);
+    }
+    if (halfBits < fewest) fewest = halfBits, cheapest = unit;
+  }
+  return cheapest;
+}
+
 uint64_t Layout::cost() const {
   const uint32_t longest =
       table.lengths.empty() ? 0 : *std::max_element(table.lengths.begin(), table.lengths.end());
@@ -80,9 +97,11 @@ uint64_t Layout::cost() const {
 }
 
 Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
-              const std::vector<uint32_t>& shared, FormatTable table, LayoutPass pass) {
+              const std::vector<uint32_t>& shared, uint32_t addressUnit, FormatTable table,
+              LayoutPass pass) {
   Layout layout;
   layout.pass = pass;
+  layout.addressUnit = addressUnit;
   // The table's formats by flags and shared mask, each group by the bits its formats take: the
   // first of a group that holds a pack is the cheapest.
   std::vector<PackFormat> formats;
@@ -123,9 +142,9 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       if (isInner(childFlag(pack.flags, k)) && absolute[pack.children[k]]) {
         f.sharedMask |= uint8_t(1u << k);
         if (pack.symmetries[k] != kIdentity) f.symmetryMask |= uint8_t(1u << k);
-        e.pointers[k] = placed[pack.children[k]];
-        if (e.pointers[k] == UINT64_MAX)
+        if (placed[pack.children[k]] == UINT64_MAX)
           throw std::logic_error("delta-dag: a shared pack placed late");
+        e.pointers[k] = placed[pack.children[k]] >> addressUnit;
         f.sharedBits = widthFor(f.sharedBits, e.pointers[k]);
       }
     uint64_t after = 0;
@@ -236,7 +255,18 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
     placed[id] = counted;
     counted += treeBits[id];
   };
-  for (const uint32_t id : shared) lay(id);
+  const uint64_t unitMask = (uint64_t(1) << addressUnit) - 1;
+  for (const uint32_t id : shared) {
+    const uint64_t position = pass == LayoutPass::Write ? out.position() : counted;
+    const uint64_t padding = (0 - position) & unitMask;
+    if (pass == LayoutPass::Write)
+      out.put(0, uint32_t(padding));
+    else
+      counted += padding;
+    layout.paddingBits += padding;
+    layout.sharedPositions.push_back(position + padding);
+    lay(id);
+  }
   if (placed[rootPack] == UINT64_MAX) lay(rootPack);
   layout.rootPosition = placed[rootPack];
   layout.bitCount = pass == LayoutPass::Write ? out.position() : counted;

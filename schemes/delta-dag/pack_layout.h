@@ -81,7 +81,10 @@ struct Layout {
   FormatTable table;
   std::unordered_map<uint64_t, uint64_t> formatCounts;  // counted: packs per own format's code
   std::vector<uint64_t> uses;                           // packs per table format, then escapes
-  uint64_t escapes = 0, headerBits = 0, valueBits = 0, pointerBits = 0, symmetryBits = 0;
+  uint32_t addressUnit = 0;                             // shared addresses count 2^addressUnit bits
+  std::vector<uint64_t> sharedPositions;  // where each shared pack lies, in layout order
+  uint64_t escapes = 0, headerBits = 0, valueBits = 0, pointerBits = 0, symmetryBits = 0,
+           paddingBits = 0;
   uint64_t bits() const { return bitCount; }
   // The bits of the packs, the table and the decode table a load derives from it.
   uint64_t cost() const;
@@ -91,11 +94,18 @@ struct Layout {
 // found (the lowest id), each once the shared packs its private tree references are placed.
 std::vector<uint32_t> sharedOrder(const std::vector<Pack>& packs,
                                   const std::vector<uint32_t>& references, bool byReferences);
+// The address unit (log2 of its bits, at most `maxUnit`) whose addresses and padding take the
+// fewest bits, for shared packs whose private trees would start at `positions` (in bits, in layout
+// order, unpadded) and are referenced `references` times: a unit of 2^u bits takes u bits off each
+// reference's address and pads each private tree by 2^u − 1 bits at most, (2^u − 1) / 2 on average.
+uint32_t cheapestAddressUnit(const std::vector<uint64_t>& positions,
+                             const std::vector<uint32_t>& references, uint32_t maxUnit);
 // The packs of the DAG under `rootPack`; `absolute`: the packs pointed to by address, whose private
-// trees are laid out first in the order `shared`; the formats of `table`. A counted layout has
-// only bitCount, rootPosition and formatCounts.
+// trees are laid out first in the order `shared`, each from a multiple of 2^addressUnit bits; the
+// formats of `table`. A counted layout has only bitCount, rootPosition, sharedPositions and
+// formatCounts.
 Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
-              const std::vector<uint32_t>& shared, FormatTable table,
+              const std::vector<uint32_t>& shared, uint32_t addressUnit, FormatTable table,
               LayoutPass pass = LayoutPass::Write);
 // A table of the formats that `counts` (packs per format code) holds at least `minCount` times
 // (the most frequent 2^maxBits − 1, fewer than kNoSymbol), with Huffman codes of at most maxBits
