@@ -65,12 +65,15 @@ DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t root
   if (validated) buildSkipTable();
 }
 
+int DeltaDag::skipLevelFor(uint64_t packBytes, int levels) {
+  const uint64_t budget = std::max(packBytes / 32, std::min<uint64_t>(64 << 10, packBytes / 8));
+  int level = 0;
+  while (level < levels && (uint64_t(sizeof(Walk)) << (2 * (level + 1))) <= budget) ++level;
+  return level;
+}
+
 void DeltaDag::buildSkipTable() {
-  const uint64_t packBytes = bits_ / 8;
-  const uint64_t budget = std::max(packBytes / 64, std::min<uint64_t>(64 << 10, packBytes / 8));
-  skipLevel_ = 0;
-  while (skipLevel_ < levels_ && (uint64_t(sizeof(Walk)) << (2 * (skipLevel_ + 1))) <= budget)
-    ++skipLevel_;
+  skipLevel_ = skipLevelFor(bits_ / 8, levels_);
   const uint32_t side = uint32_t(1) << skipLevel_;
   skip_.assign(size_t(side) * side, rootWalk());
   for (uint32_t y = 0; y < side; ++y)

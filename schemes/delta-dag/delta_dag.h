@@ -263,6 +263,9 @@ class DeltaDag {
       }
   }
 
+  // The skip table's level for packs of `packBytes` bytes (buildSkipTable).
+  static int skipLevelFor(uint64_t packBytes, int levels);
+
   SizeBreakdown size() const;
   void save(ByteWriter& out) const;
   // Validates every pack reachable from the root: fields inside the structure, widths the writer
@@ -366,9 +369,11 @@ class DeltaDag {
 
   // DAG-MH's skip list (Scandolo & Eisemann 2021 §3.7), derived from the packs: the walk to
   // every square of the skip level, row by row, so that a lookup starts there. The level is the
-  // deepest whose table takes at most 1/64 of the packs' bytes, or DAG-MH's 64 KiB (its skip
+  // deepest whose table takes at most 1/32 of the packs' bytes, or DAG-MH's 64 KiB (its skip
   // list, level 6) where that is more and at most 1/8 of them: a small structure's walks would
-  // otherwise start 2 or 3 levels higher than DAG-MH's (the terrain at 16K²: level 3).
+  // otherwise start 2 or 3 levels higher than DAG-MH's (the terrain at 16K²: level 3). With 1/64,
+  // structures just below a level's threshold started a level higher (the forest at 16K²:
+  // uniform point lookups 1.5× slower).
   void buildSkipTable();
 
   int levels_ = 0;

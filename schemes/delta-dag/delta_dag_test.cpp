@@ -105,11 +105,18 @@ TEST_CASE("every texel's key lies in its interval, for every option", "[delta-da
 }
 
 // The README's skip table: walks of 16 bytes to every square of the deepest level whose table
-// takes at most 1/64 of the packs' bytes, or 64 KiB where that is more and at most 1/8 of them.
-// Random maps of 256² (packs of about 25 KB: 1/8 of them), 1024² (about 530 KB: 64 KiB, which
-// 1/8 of them would also allow) and 2048² (about 2.2 MB: 64 KiB, where 1/8 would allow 256 KiB).
-TEST_CASE("the skip table is the deepest level within its budget, 16 bytes a square",
-          "[delta-dag]") {
+// takes at most 1/32 of the packs' bytes, or 64 KiB where that is more and at most 1/8 of them.
+TEST_CASE("the skip table's level follows its budget", "[delta-dag]") {
+  CHECK(DeltaDag::skipLevelFor(24'000, 8) == 3);           // 1/8: 3000 bytes hold 4^3 walks
+  CHECK(DeltaDag::skipLevelFor(600'000, 10) == 6);         // 64 KiB, within 1/8
+  CHECK(DeltaDag::skipLevelFor((8 << 20) - 32, 14) == 6);  // 1/32 just short of 256 KiB
+  CHECK(DeltaDag::skipLevelFor(8 << 20, 14) == 7);         // 1/32: 256 KiB
+  CHECK(DeltaDag::skipLevelFor(1 << 30, 5) == 5);          // no deeper than the map
+}
+
+// The table built is the level's, 16 bytes a square, on random maps of 256² (packs of about 25
+// KB), 1024² (about 530 KB) and 2048² (about 2 MB).
+TEST_CASE("the skip table holds 16 bytes a square of its level", "[delta-dag]") {
   const std::pair<uint64_t, uint32_t> maps[] = {{1, 256},  {2, 256},  {3, 256}, {4, 256},
                                                 {1, 1024}, {2, 1024}, {1, 2048}};
   for (const auto& [seed, resolution] : maps) {
@@ -118,13 +125,8 @@ TEST_CASE("the skip table is the deepest level within its budget, 16 bytes a squ
     uint64_t skipBytes = 0;
     for (const auto& [part, bytes] : dag.size())
       if (part == "skip table") skipBytes = bytes;
-    const uint64_t packBytes = dag.bits() / 8;
-    const uint64_t budget = packBytes / 64 > 65536  ? packBytes / 64
-                            : packBytes / 8 < 65536 ? packBytes / 8
-                                                    : 65536;
-    int level = 0;
-    while (level < dag.levels() && uint64_t(16) << (2 * (level + 1)) <= budget) ++level;
-    INFO("seed " << seed << ", R " << resolution << ", packs " << packBytes << " bytes");
+    const int level = DeltaDag::skipLevelFor(dag.bits() / 8, dag.levels());
+    INFO("seed " << seed << ", R " << resolution << ", packs " << dag.bits() / 8 << " bytes");
     CHECK(level >= 3);
     CHECK(skipBytes == uint64_t(16) << (2 * level));
   }
