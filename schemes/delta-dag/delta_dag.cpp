@@ -393,7 +393,7 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
       std::min<uint32_t>(kMaxCodeBits, std::bit_width(best.bits() / (64 * 16)) - 1);
   if (options.formatTable && best.bits() >= 64 * 16 * 16) {
     keepSmaller(layOut(packs, rootPack, absolute, shared, unit,
-                       frequentFormats(best.formatCounts, kMinFormatUses, maxBits)));
+                       frequentFormats(std::move(best.ownCodes), kMinFormatUses, maxBits)));
     if (!best.table.codes.empty())
       keepSmaller(layOut(packs, rootPack, absolute, shared, unit, refitted(best, maxBits)));
   }

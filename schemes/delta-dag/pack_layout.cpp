@@ -132,7 +132,6 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
   // The table format each pack uses, found when it is measured and kept for when it is placed
   // (its widths are the same then): -1 explicit, -2 not yet found.
   std::vector<int32_t> chosen(packs.size(), -2);
-  std::unordered_map<uint64_t, int32_t> choiceOf;  // own format's code → table format, or -1
   const auto encode = [&](uint32_t id) {
     const Pack& pack = packs[id];
     PackEncoding e;
@@ -198,7 +197,7 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       bits += treeBits[child];
     });
     const PackEncoding e = encode(id);
-    if (pass == LayoutPass::Count) ++layout.formatCounts[e.ownCode];
+    if (pass == LayoutPass::Count) layout.ownCodes.push_back(e.ownCode);
     treeBits[id] = bits + e.format.bits;
   };
 
@@ -273,8 +272,15 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
   return layout;
 }
 
-FormatTable frequentFormats(const std::unordered_map<uint64_t, uint64_t>& counts, uint64_t minCount,
-                            uint32_t maxBits) {
+FormatTable frequentFormats(std::vector<uint64_t> ownCodes, uint64_t minCount, uint32_t maxBits) {
+  // Counted by sorting: a hash map's update per pack took 8 % of a build (forest 16K², perf).
+  std::sort(ownCodes.begin(), ownCodes.end());
+  std::vector<std::pair<uint64_t, uint64_t>> counts;  // code, packs
+  for (const uint64_t code : ownCodes)
+    if (counts.empty() || counts.back().first != code)
+      counts.push_back({code, 1});
+    else
+      ++counts.back().second;
   std::vector<std::pair<uint64_t, uint64_t>> byFrequency;
   uint64_t left = 0;
   // Counted with widths rounded up to even: packs a bit apart share the wider format, so fewer

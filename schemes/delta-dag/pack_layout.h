@@ -79,9 +79,9 @@ struct Layout {
   uint64_t bitCount = 0;
   uint64_t rootPosition = 0;
   FormatTable table;
-  std::unordered_map<uint64_t, uint64_t> formatCounts;  // counted: packs per own format's code
-  std::vector<uint64_t> uses;                           // packs per table format, then escapes
-  uint32_t addressUnit = 0;                             // shared addresses count 2^addressUnit bits
+  std::vector<uint64_t> ownCodes;         // counted: each pack's own format's code
+  std::vector<uint64_t> uses;             // packs per table format, then escapes
+  uint32_t addressUnit = 0;               // shared addresses count 2^addressUnit bits
   std::vector<uint64_t> sharedPositions;  // where each shared pack lies, in layout order
   uint64_t escapes = 0, headerBits = 0, valueBits = 0, pointerBits = 0, symmetryBits = 0,
            paddingBits = 0;
@@ -103,15 +103,14 @@ uint32_t cheapestAddressUnit(const std::vector<uint64_t>& positions,
 // The packs of the DAG under `rootPack`; `absolute`: the packs pointed to by address, whose private
 // trees are laid out first in the order `shared`, each from a multiple of 2^addressUnit bits; the
 // formats of `table`. A counted layout has only bitCount, rootPosition, sharedPositions and
-// formatCounts.
+// ownCodes.
 Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
               const std::vector<uint32_t>& shared, uint32_t addressUnit, FormatTable table,
               LayoutPass pass = LayoutPass::Write);
-// A table of the formats that `counts` (packs per format code) holds at least `minCount` times
+// A table of the formats that `ownCodes` (each pack's format code) hold at least `minCount` times
 // (the most frequent 2^maxBits − 1, fewer than kNoSymbol), with Huffman codes of at most maxBits
 // by count, the escape's by the packs left out.
-FormatTable frequentFormats(const std::unordered_map<uint64_t, uint64_t>& counts, uint64_t minCount,
-                            uint32_t maxBits);
+FormatTable frequentFormats(std::vector<uint64_t> ownCodes, uint64_t minCount, uint32_t maxBits);
 // The table a layout used, less its unused formats, with codes fitted to its uses.
 FormatTable refitted(const Layout& layout, uint32_t maxBits);
 
