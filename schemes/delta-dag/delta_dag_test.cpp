@@ -237,32 +237,49 @@ TEST_CASE("a layout with a table of formats reads back as built", "[delta-dag]")
       REQUIRE(loaded.texelKey(i, j) == encoded.dag.texelKey(i, j));
 }
 
+// Packs written by hand, field by field in the README's order, and the payload around them: a
+// full root at bit `root`, the address unit, the table's entries (a format's code | its prefix
+// code's length << kFormatCodeBits) and the escape's code length.
+struct HandWrittenPacks {
+  std::vector<uint8_t> bytes;
+  uint64_t at = 0;
+  void put(uint64_t value, uint32_t bits) {
+    for (uint32_t b = 0; b < bits; ++b, ++at) {
+      if (at / 8 == bytes.size()) bytes.push_back(0);
+      bytes[at / 8] |= uint8_t((value >> b & 1) << at % 8);
+    }
+  }
+  ByteWriter payload(uint32_t rootKey, uint64_t root, uint8_t addressUnit,
+                     const std::vector<uint64_t>& entries = {}, uint8_t escapeBits = 0) const {
+    ByteWriter out;
+    out.put<uint8_t>(uint8_t(MhChild::Full));
+    out.put<uint32_t>(rootKey);
+    out.put<uint64_t>(root);
+    out.put<uint8_t>(addressUnit);
+    out.put<uint64_t>(entries.size());
+    for (const uint64_t entry : entries)
+      for (int b = 0; b < 6; ++b) out.put<uint8_t>(uint8_t(entry >> (8 * b)));
+    out.put<uint8_t>(escapeBits);
+    out.put<uint64_t>(at);
+    out.put<uint64_t>(bytes.size());
+    for (const uint8_t byte : bytes) out.put<uint8_t>(byte);
+    return out;
+  }
+};
+
 // The layout with a table, written by hand from the README: a table of one format (child 0 a
 // leaf, 2-bit values) whose code is 0, the escape's 1; the root pack escapes (child 0 full, value
 // 1, its pack following with no pointer), the pack below uses the table (child 0 a leaf, value 1).
 TEST_CASE("a hand-written layout with a table and an escape reads as the README says",
           "[delta-dag]") {
-  uint64_t packBits = 0, at = 0;
-  const auto put = [&](uint64_t value, uint32_t bits) {
-    packBits |= value << at;
-    at += bits;
-  };
-  put(1, 1), put(0b01, 8), put(2, 6), put(0, 5), put(0, 4), put(1, 2);  // the root's pack
-  put(0, 1), put(1, 2);                                                 // the pack below
+  HandWrittenPacks packs;
+  packs.put(1, 1), packs.put(0b01, 8), packs.put(2, 6), packs.put(0, 5), packs.put(0, 4),
+      packs.put(1, 2);               // the root's pack
+  packs.put(0, 1), packs.put(1, 2);  // the pack below
   const uint32_t rootKey = 0x3f000000;
   const uint64_t format = 0b11 | uint64_t(2) << 8;
-  ByteWriter out;
-  out.put<uint8_t>(uint8_t(MhChild::Full));
-  out.put<uint32_t>(rootKey);
-  out.put<uint64_t>(0);
-  out.put<uint8_t>(0);  // addresses in bits
-  out.put<uint64_t>(1);
-  const uint64_t entry = format | uint64_t(1) << delta_dag::kFormatCodeBits;
-  for (int b = 0; b < 6; ++b) out.put<uint8_t>(uint8_t(entry >> (8 * b)));
-  out.put<uint8_t>(1);
-  out.put<uint64_t>(at);
-  out.put<uint64_t>(4);
-  out.put<uint32_t>(uint32_t(packBits));
+  const ByteWriter out =
+      packs.payload(rootKey, 0, 0, {format | uint64_t(1) << delta_dag::kFormatCodeBits}, 1);
   ByteReader in(out.bytes());
   const DeltaDag dag = DeltaDag::load(in, {8, 0, DepthMode::Closed});
   in.expectEnd();
@@ -278,26 +295,14 @@ TEST_CASE("a hand-written layout with a table and an escape reads as the README 
 // child 0 a leaf of value 1), and the root's pack after it, both children empty and shared: A
 // as stored, and A mirrored in x (symmetry 1), its leaf then the top right texel's.
 TEST_CASE("a hand-written reference read mirrored reads as the README says", "[delta-dag]") {
-  uint64_t packBits = 0, at = 0;
-  const auto put = [&](uint64_t value, uint32_t bits) {
-    packBits |= value << at;
-    at += bits;
-  };
-  put(0b11, 8), put(2, 6), put(0, 5), put(1, 2);  // A
-  const uint64_t root = at;
-  put(0b1010, 8), put(0b11, 4), put(1, 1), put(0b10, 4), put(5, 6);  // flags, masks, widths
-  put(0, 5), put(0, 5), put(1, 3);                                   // A; A mirrored in x
+  HandWrittenPacks packs;
+  packs.put(0b11, 8), packs.put(2, 6), packs.put(0, 5), packs.put(1, 2);  // A
+  const uint64_t root = packs.at;
+  packs.put(0b1010, 8), packs.put(0b11, 4), packs.put(1, 1), packs.put(0b10, 4),
+      packs.put(5, 6);                                // flags, masks, widths
+  packs.put(0, 5), packs.put(0, 5), packs.put(1, 3);  // A; A mirrored in x
   const uint32_t rootKey = 0x3f000000;
-  ByteWriter out;
-  out.put<uint8_t>(uint8_t(MhChild::Full));
-  out.put<uint32_t>(rootKey);
-  out.put<uint64_t>(root);
-  out.put<uint8_t>(0);   // addresses in bits
-  out.put<uint64_t>(0);  // no table
-  out.put<uint8_t>(0);   // no escape
-  out.put<uint64_t>(at);
-  out.put<uint64_t>((at + 7) / 8);
-  for (uint64_t b = 0; b < (at + 7) / 8; ++b) out.put<uint8_t>(uint8_t(packBits >> (8 * b)));
+  const ByteWriter out = packs.payload(rootKey, root, 0);
   ByteReader in(out.bytes());
   const DeltaDag dag = DeltaDag::load(in, {4, 0, DepthMode::Closed});
   in.expectEnd();
@@ -315,33 +320,16 @@ TEST_CASE("a hand-written reference read mirrored reads as the README says", "[d
 // 1), and the root's pack after them, both children empty and shared: A at address 0, B at 3.
 TEST_CASE("a hand-written layout with addresses in 8-bit units reads as the README says",
           "[delta-dag]") {
-  std::vector<uint8_t> packBytes(9, 0);  // 68 bits
-  uint64_t at = 0;
-  const auto put = [&](uint64_t value, uint32_t bits) {
-    for (uint32_t b = 0; b < bits; ++b, ++at)
-      packBytes[at / 8] |= uint8_t((value >> b & 1) << at % 8);
-  };
-  put(0b11, 8), put(2, 6), put(0, 5), put(1, 2);        // A
-  put(0, 3);                                            // padding to bit 24
-  put(0b11000000, 8), put(2, 6), put(0, 5), put(1, 2);  // B
-  const uint64_t root = at;
-  put(0b1010, 8), put(0b11, 4), put(0, 1), put(2, 6);  // flags, shared mask, not turned, width
-  put(0, 2), put(3, 2);                                // A; B at 3 units of 8 bits
+  HandWrittenPacks packs;
+  packs.put(0b11, 8), packs.put(2, 6), packs.put(0, 5), packs.put(1, 2);        // A
+  packs.put(0, 3);                                                              // padding
+  packs.put(0b11000000, 8), packs.put(2, 6), packs.put(0, 5), packs.put(1, 2);  // B
+  const uint64_t root = packs.at;
+  packs.put(0b1010, 8), packs.put(0b11, 4), packs.put(0, 1),
+      packs.put(2, 6);               // flags, shared mask, not turned, width
+  packs.put(0, 2), packs.put(3, 2);  // A; B at 3 units of 8 bits
   const uint32_t rootKey = 0x3f000000;
-  const auto file = [&](uint8_t addressUnit) {
-    ByteWriter out;
-    out.put<uint8_t>(uint8_t(MhChild::Full));
-    out.put<uint32_t>(rootKey);
-    out.put<uint64_t>(root);
-    out.put<uint8_t>(addressUnit);
-    out.put<uint64_t>(0);  // no table
-    out.put<uint8_t>(0);   // no escape
-    out.put<uint64_t>(at);
-    out.put<uint64_t>(packBytes.size());
-    for (const uint8_t byte : packBytes) out.put<uint8_t>(byte);
-    return out;
-  };
-  const ByteWriter out = file(3);
+  const ByteWriter out = packs.payload(rootKey, root, 3);
   ByteReader in(out.bytes());
   const DeltaDag dag = DeltaDag::load(in, {4, 0, DepthMode::Closed});
   in.expectEnd();
@@ -351,7 +339,7 @@ TEST_CASE("a hand-written layout with addresses in 8-bit units reads as the READ
   CHECK(dag.texelKey(2, 0) == rootKey);
   CHECK(dag.texelKey(2, 1) == rootKey);
   CHECK(dag.texelKey(0, 3) == rootKey);
-  const ByteWriter wide = file(delta_dag::kMaxAddressUnit + 1);
+  const ByteWriter wide = packs.payload(rootKey, root, delta_dag::kMaxAddressUnit + 1);
   ByteReader wideIn(wide.bytes());
   CHECK_THROWS_AS(DeltaDag::load(wideIn, {4, 0, DepthMode::Closed}), FormatError);
 }
