@@ -55,17 +55,10 @@ std::string lowerExtension(const fs::path& path) {
   return ext;
 }
 
-// A PLY property: a scalar of `bytes`, or a list of them whose length is a `countBytes` integer.
-struct PlyProperty {
-  uint64_t bytes = 0;
-  uint64_t countBytes = 0;  // 0 for a scalar
-};
-
 struct Element {
   std::string name;
   uint64_t count = 0;
-  uint64_t minItemBytes = 0;            // the smallest encoding of one item in the file
-  std::vector<PlyProperty> properties;  // PLY only
+  uint64_t minItemBytes = 0;  // the smallest encoding of one item in the file
 };
 
 // Refuses the file when its elements need more than the `available` bytes after the header.
@@ -86,55 +79,6 @@ void checkElementsFit(const std::vector<Element>& elements, uint64_t available, 
 
 SceneFootprint footprintOf(uint64_t vertices, uint64_t faces) {
   return {vertices, faces, vertices * kBytesPerVertex + faces * kBytesPerFace};
-}
-
-// Assimp 5.2 aborts the process (an assertion in its TriangulateProcess) on a face whose index
-// list is empty: the face lists are read once here and such a file is refused. A body cut short
-// is left to Assimp, which reports it.
-void checkPlyFaceLists(const fs::path& path, size_t body, bool ascii,
-                       const std::vector<Element>& elements, const std::string& prefix) {
-  const bool anyList = std::any_of(elements.begin(), elements.end(), [](const Element& e) {
-    return e.name == "face" && std::any_of(e.properties.begin(), e.properties.end(),
-                                           [](const PlyProperty& p) { return p.countBytes; });
-  });
-  if (!anyList) return;
-  std::ifstream in(path, std::ios::binary);
-  in.seekg(static_cast<std::streamoff>(body));
-  // Only the lengths are read; the format's byte order matters for them alone, and a length
-  // of zero reads as zero either way.
-  const auto readLength = [&](uint64_t bytes) -> std::optional<uint64_t> {
-    if (ascii) {
-      std::string token;
-      if (!(in >> token)) return std::nullopt;
-      return parseCount(token).value_or(1);  // a malformed length is Assimp's to report
-    }
-    uint8_t raw[8] = {};
-    if (!in.read(reinterpret_cast<char*>(raw), static_cast<std::streamsize>(bytes)))
-      return std::nullopt;
-    uint64_t length = 0;
-    for (uint64_t b = 0; b < bytes; ++b) length |= raw[b];  // zero exactly when all bytes are
-    return length;
-  };
-  const auto skip = [&](uint64_t values, uint64_t bytes) {
-    if (!ascii) return bool(in.ignore(static_cast<std::streamsize>(values * bytes)));
-    std::string token;
-    for (uint64_t v = 0; v < values; ++v)
-      if (!(in >> token)) return false;
-    return true;
-  };
-  for (const Element& e : elements)
-    for (uint64_t item = 0; item < e.count; ++item)
-      for (const PlyProperty& p : e.properties) {
-        if (!p.countBytes) {
-          if (!skip(1, p.bytes)) return;
-          continue;
-        }
-        const std::optional<uint64_t> length = readLength(p.countBytes);
-        if (!length) return;
-        if (*length == 0 && e.name == "face")
-          throw SceneError(fmt::format("{}: face {} has no vertex index", prefix, item));
-        if (!skip(*length, p.bytes)) return;
-      }
 }
 
 // PLY (Turk 1994): "ply", "format ascii|binary_little_endian|binary_big_endian 1.0", then
@@ -189,7 +133,7 @@ SceneFootprint plyFootprint(const fs::path& path, uint64_t fileSize, const std::
     } else if (w[0] == "element" && w.size() == 3) {
       const std::optional<uint64_t> count = parseCount(w[2]);
       if (!count) refuse(where + ": the element count is not a number");
-      elements.push_back({std::string(w[1]), *count, 0, {}});
+      elements.push_back({std::string(w[1]), *count, 0});
     } else if (w[0] == "property" && !elements.empty()) {
       // A list may be empty: its smallest encoding is its count alone. In ASCII every value
       // takes at least a digit and a separator.
@@ -201,7 +145,6 @@ SceneFootprint plyFootprint(const fs::path& path, uint64_t fileSize, const std::
       if (list && (w[2].find("float") != std::string_view::npos || w[2] == "double"))
         refuse(where + ": a list's length must be an integer type");
       elements.back().minItemBytes += ascii ? 2 : bytes;
-      elements.back().properties.push_back({itemBytes, list ? bytes : 0});
     } else {
       refuse(where + " is not a format, element, property or comment line");
     }
@@ -212,7 +155,6 @@ SceneFootprint plyFootprint(const fs::path& path, uint64_t fileSize, const std::
   uint64_t afterHeader = fileSize - std::min<uint64_t>(body, fileSize);
   if (ascii) ++afterHeader;  // the last value needs no separator
   checkElementsFit(elements, afterHeader, fileSize, prefix);
-  checkPlyFaceLists(path, body, ascii, elements, prefix);
   uint64_t vertices = 0, faces = 0;
   for (const Element& e : elements) {
     if (e.name == "vertex") vertices = e.count;
@@ -243,7 +185,7 @@ std::optional<SceneFootprint> offFootprint(const fs::path& path, uint64_t fileSi
   const std::optional<uint64_t> vertices = parseCount(tokens[1]), faces = parseCount(tokens[2]);
   if (!vertices || !faces) return std::nullopt;
   const uint64_t afterHeader = fileSize - std::min<uint64_t>(at, fileSize) + 1;
-  checkElementsFit({{"vertex", *vertices, 6, {}}, {"face", *faces, 2, {}}}, afterHeader, fileSize,
+  checkElementsFit({{"vertex", *vertices, 6}, {"face", *faces, 2}}, afterHeader, fileSize,
                    prefix);
   return footprintOf(*vertices, *faces);
 }

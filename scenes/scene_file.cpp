@@ -78,6 +78,16 @@ std::string uniqueName(const std::string& name, std::set<std::string>& taken) {
   return candidate;
 }
 
+// Assimp 5.2's TriangulateProcess aborts the process (an ai_assert) on a face without indices,
+// which its validation lets through and its PLY reader makes of a zero-length or misread face
+// line (fuzz/regressions/model_file/). Checked before any post-processing runs.
+void checkFacesHaveIndices(const aiScene& model, const std::string& prefix) {
+  for (unsigned m = 0; m < model.mNumMeshes; ++m)
+    for (unsigned f = 0; f < model.mMeshes[m]->mNumFaces; ++f)
+      if (model.mMeshes[m]->mFaces[f].mNumIndices == 0)
+        throw SceneError(fmt::format("{}: mesh {}: face {} has no vertex index", prefix, m, f));
+}
+
 // One open mesh per model mesh that has triangles; `prefix` starts every error message.
 std::vector<Mesh> readModel(const fs::path& path, const std::string& prefix,
                             uint64_t memoryLimitBytes) {
@@ -94,12 +104,16 @@ std::vector<Mesh> readModel(const fs::path& path, const std::string& prefix,
   Assimp::Importer importer;
   // Without this, PreTransformVertices joins meshes that share a material, and their names.
   importer.SetPropertyBool(AI_CONFIG_PP_PTV_KEEP_HIERARCHY, true);
-  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                         aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure;
-  const aiScene* model = importer.ReadFile(path.string(), flags);
+  const aiScene* model = importer.ReadFile(path.string(), aiProcess_ValidateDataStructure);
   if (!model)
     throw SceneError(
         fmt::format("{}: cannot read the model: {}", prefix, oneLine(importer.GetErrorString())));
+  checkFacesHaveIndices(*model, prefix);
+  model = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                       aiProcess_PreTransformVertices);
+  if (!model)
+    throw SceneError(fmt::format("{}: cannot post-process the model: {}", prefix,
+                                 oneLine(importer.GetErrorString())));
 
   std::vector<Mesh> meshes;
   std::set<std::string> taken;
