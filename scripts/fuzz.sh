@@ -14,8 +14,8 @@ shift $(($# > 0 ? 1 : 0))
 flags=("$@")
 build=build-fuzz
 
-launcher=()
-if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+# shellcheck source=scripts/compiler-cache.sh
+source scripts/compiler-cache.sh
 mkdir -p "$build/logs"
 if ! CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DSHADOWBENCH_FUZZ=ON "${launcher[@]}" >"$build/logs/configure.log" 2>&1; then

@@ -4,7 +4,7 @@ set -euo pipefail
 packages=(build-essential cmake libembree-dev libtbb-dev libglm-dev libfmt-dev libopenexr-dev
           catch2 libbenchmark-dev libassimp-dev libcli11-dev nlohmann-json3-dev libxxhash-dev
           libzstd-dev libpng-dev libopenvdb-dev libboost-iostreams-dev python3-matplotlib
-          python3-jsonschema git clang libclang-rt-14-dev snakemake
+          python3-jsonschema git clang libclang-rt-14-dev snakemake ccache
           python3-markdown chromium)  # scripts/report.py, and its test in a headless browser
 missing=()
 for p in "${packages[@]}"; do

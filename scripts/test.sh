@@ -7,6 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
+# shellcheck source=scripts/compiler-cache.sh
+source scripts/compiler-cache.sh
 build=build
 flags=(-DCMAKE_BUILD_TYPE=Release)
 skip=()
@@ -15,6 +17,6 @@ if [ "${1:-}" = "--sanitize" ]; then
   flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DSHADOWBENCH_SANITIZE=ON)
   skip=(-LE workflow)
 fi
-cmake -S . -B "$build" "${flags[@]}" >/dev/null
+cmake -S . -B "$build" "${flags[@]}" "${launcher[@]}" >/dev/null
 cmake --build "$build" -j "$(nproc)"
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" "${skip[@]}"
