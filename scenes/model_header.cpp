@@ -185,8 +185,7 @@ std::optional<SceneFootprint> offFootprint(const fs::path& path, uint64_t fileSi
   const std::optional<uint64_t> vertices = parseCount(tokens[1]), faces = parseCount(tokens[2]);
   if (!vertices || !faces) return std::nullopt;
   const uint64_t afterHeader = fileSize - std::min<uint64_t>(at, fileSize) + 1;
-  checkElementsFit({{"vertex", *vertices, 6}, {"face", *faces, 2}}, afterHeader, fileSize,
-                   prefix);
+  checkElementsFit({{"vertex", *vertices, 6}, {"face", *faces, 2}}, afterHeader, fileSize, prefix);
   return footprintOf(*vertices, *faces);
 }
 
