@@ -104,19 +104,37 @@ TEST_CASE("every texel's key lies in its interval, for every option", "[delta-da
             }
 }
 
-// The README's skip table: walks of 16 bytes to every square of the deepest level whose table
-// takes at most 1/32 of the packs' bytes, or 64 KiB where that is more and at most 1/8 of them.
+// The README's skip table: entries of 12 bytes for every square of the deepest level whose table
+// takes at most 1 MiB and 1/5 of the packs' bytes, or 1/32 of them where that is more.
 TEST_CASE("the skip table's level follows its budget", "[delta-dag]") {
-  CHECK(DeltaDag::skipLevelFor(24'000, 8) == 3);           // 1/8: 3000 bytes hold 4^3 walks
-  CHECK(DeltaDag::skipLevelFor(600'000, 10) == 6);         // 64 KiB, within 1/8
-  CHECK(DeltaDag::skipLevelFor((8 << 20) - 32, 14) == 6);  // 1/32 just short of 256 KiB
-  CHECK(DeltaDag::skipLevelFor(8 << 20, 14) == 7);         // 1/32: 256 KiB
-  CHECK(DeltaDag::skipLevelFor(1 << 30, 5) == 5);          // no deeper than the map
+  CHECK(DeltaDag::skipLevelFor(61'439, 10) == 4);    // 1/5 just short of 4^5 entries (12 KiB)
+  CHECK(DeltaDag::skipLevelFor(61'440, 10) == 5);    // 1/5: 12 KiB
+  CHECK(DeltaDag::skipLevelFor(20 << 20, 14) == 8);  // 1/5 is 4 MiB, but at most 1 MiB
+  CHECK(DeltaDag::skipLevelFor((96 << 20) - 32, 14) == 8);  // 1/32 just short of 3 MiB
+  CHECK(DeltaDag::skipLevelFor(96 << 20, 14) == 9);         // 1/32: 3 MiB
+  CHECK(DeltaDag::skipLevelFor(1 << 30, 5) == 5);           // no deeper than the map
 }
 
-// The table built is the level's, 16 bytes a square, on random maps of 256² (packs of about 25
+// A skip entry keeps every field of a walk, positions above 2^32 bits included (the city at 256K²
+// holds 2^29 bits; the entry's limit is 2^51).
+TEST_CASE("a skip entry gives back the walk it was made of", "[delta-dag]") {
+  const DeltaDag::Walk walks[] = {
+      {0, 0, MhChild::Leaf, delta_dag::Symmetry(0), 0},
+      {(uint64_t(1) << 51) - 1, 0xffffffff, MhChild::Empty, delta_dag::Symmetry(7), 30},
+      {(uint64_t(1) << 32) + 12345, 77, MhChild::Full, delta_dag::Symmetry(5), 9}};
+  for (const DeltaDag::Walk& walk : walks) {
+    const DeltaDag::Walk back = DeltaDag::SkipEntry::of(walk).walk();
+    CHECK(back.position == walk.position);
+    CHECK(back.key == walk.key);
+    CHECK(back.kind == walk.kind);
+    CHECK(back.symmetry == walk.symmetry);
+    CHECK(back.level == walk.level);
+  }
+}
+
+// The table built is the level's, 12 bytes a square, on random maps of 256² (packs of about 25
 // KB), 1024² (about 530 KB) and 2048² (about 2 MB).
-TEST_CASE("the skip table holds 16 bytes a square of its level", "[delta-dag]") {
+TEST_CASE("the skip table holds 12 bytes a square of its level", "[delta-dag]") {
   const std::pair<uint64_t, uint32_t> maps[] = {{1, 256},  {2, 256},  {3, 256}, {4, 256},
                                                 {1, 1024}, {2, 1024}, {1, 2048}};
   for (const auto& [seed, resolution] : maps) {
@@ -128,13 +146,13 @@ TEST_CASE("the skip table holds 16 bytes a square of its level", "[delta-dag]") 
     const int level = DeltaDag::skipLevelFor(dag.bits() / 8, dag.levels());
     INFO("seed " << seed << ", R " << resolution << ", packs " << dag.bits() / 8 << " bytes");
     CHECK(level >= 3);
-    CHECK(skipBytes == uint64_t(16) << (2 * level));
+    CHECK(skipBytes == uint64_t(12) << (2 * level));
   }
 }
 
 // A kernel walk gives each texel of its rectangle the key its point walk gives: rectangles
 // within one skip-table square, across the edges of 2 or 4 (walked from each), and across more
-// (walked from the root), on maps whose skip table is at level 3.
+// (walked from the root), on maps whose skip table is at level 4.
 TEST_CASE("a kernel walk gives every texel of its rectangle its point walk's key", "[delta-dag]") {
   uint64_t state = 13;
   for (uint64_t seed = 1; seed <= 4; ++seed) {
