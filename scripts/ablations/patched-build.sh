@@ -14,13 +14,15 @@ remove_worktrees() {
   rm -rf "$work"
 }
 trap remove_worktrees EXIT
+# shellcheck source=scripts/compiler-cache.sh
+source "$repo/scripts/compiler-cache.sh"
+export CCACHE_BASEDIR="$work"  # worktrees of one name hit across runs
 
 build_at() {
-  local name=$1 commit=$2 patch=${3:-} launcher=()
+  local name=$1 commit=$2 patch=${3:-}
   git -C "$repo" worktree add --detach "$work/$name" "$commit" >/dev/null
   worktrees+=("$work/$name")
   [ -z "$patch" ] || git -C "$work/$name" apply "$here/$patch"
-  command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
   if ! { cmake -S "$work/$name" -B "$work/$name-build" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" &&
     cmake --build "$work/$name-build" --target shadowbench -j"$(nproc)"; } >"$work/$name.log" 2>&1; then
     tail -n 40 "$work/$name.log" >&2
