@@ -31,6 +31,26 @@ double secondsOf(F&& f) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+constexpr size_t kChunk = 4096;
+
+// The queries of one run of `decoder` on `set` with a k×k filter: as many as take about a tenth
+// of a second by a probe, so that slow filters do not take minutes, and for a decoder with a block
+// cache at least a 1920×1080 frame (issue 13: a frame's queries arrive as one batch). The probe is
+// timed on its second run: the first pays for the pages and cache lines it touches first, which
+// sized the terrain's point lookups at 16K² to runs of 4 ms.
+size_t queriesPerRun(const Decoder& decoder, const QuerySet& set, int k, std::span<float> answers) {
+  const size_t probe = std::min(set.queries.size(), kChunk);
+  const auto runProbe = [&] {
+    decoder.lookup(std::span(set.queries).first(probe), k, answers.first(probe));
+  };
+  runProbe();
+  const double probeSeconds = std::max(secondsOf(runProbe), 1e-9);
+  const size_t count =
+      std::clamp<size_t>(size_t(0.1 / probeSeconds * double(probe)), probe, set.queries.size());
+  if (!decoder.blockCacheStatistics()) return count;
+  return std::max(count, std::min(set.queries.size(), kFrameQueries));
+}
+
 }  // namespace
 
 nlohmann::json LookupTiming::toJson() const {
@@ -50,26 +70,16 @@ LookupTiming timeLookups(const Decoder& decoder, const QuerySet& set, int k, int
   timing.filter = k;
   timing.threads = tbb::this_task_arena::max_concurrency();
   if (set.queries.empty()) return timing;
-  constexpr size_t kChunk = 4096;
   std::vector<float> answers(set.queries.size());
   auto run = [&](size_t count) {
     decoder.lookup(std::span(set.queries).first(count), k, std::span(answers).first(count));
   };
-
-  // Size the run from a probe so that slow filters do not take minutes.
-  const size_t probe = std::min(set.queries.size(), kChunk);
-  const double probeSeconds = std::max(secondsOf([&] { run(probe); }), 1e-9);
-  size_t count =
-      std::clamp<size_t>(size_t(0.1 / probeSeconds * double(probe)), probe, set.queries.size());
+  const size_t count = queriesPerRun(decoder, set, k, answers);
   // A decoder with a block cache answers a batch in an order of its own, so that each block is
-  // decompressed once per batch (issue 13: a frame's queries arrive as one batch). It is timed on
-  // whole frames, and all threads take a contiguous share of each.
+  // decompressed once per batch: all threads take a contiguous share of each frame.
   const BlockCacheStatistics* cache = decoder.blockCacheStatistics();
-  size_t chunk = kChunk;
-  if (cache) {
-    count = std::max(count, std::min(set.queries.size(), kFrameQueries));
-    chunk = (count + size_t(timing.threads) - 1) / size_t(timing.threads);
-  }
+  const size_t chunk =
+      cache ? (count + size_t(timing.threads) - 1) / size_t(timing.threads) : kChunk;
   timing.queries = count;
 
   // Single-thread runs use the calling thread's cache; TBB's runs share it among threads.
@@ -96,6 +106,28 @@ LookupTiming timeLookups(const Decoder& decoder, const QuerySet& set, int k, int
   if (cached.hits + cached.misses != 0)
     timing.cacheHitRate = double(cached.hits) / double(cached.hits + cached.misses);
   return timing;
+}
+
+InTurnTimings timeLookupsInTurn(std::span<const Decoder* const> decoders, const QuerySet& set,
+                                int k, int rounds) {
+  InTurnTimings timings;
+  timings.nsPerQuery.resize(decoders.size());
+  if (set.queries.empty() || decoders.empty()) return timings;
+  std::vector<float> answers(set.queries.size());
+  size_t count = set.queries.size();
+  for (const Decoder* decoder : decoders)
+    count = std::min(count, queriesPerRun(*decoder, set, k, answers));
+  timings.queries = count;
+  for (int r = 0; r < rounds; ++r)
+    for (size_t turn = 0; turn < decoders.size(); ++turn) {
+      const size_t d = r % 2 ? decoders.size() - 1 - turn : turn;
+      timings.nsPerQuery[d].push_back(secondsOf([&] {
+                                        decoders[d]->lookup(std::span(set.queries).first(count), k,
+                                                            std::span(answers).first(count));
+                                      }) *
+                                      1e9 / double(count));
+    }
+  return timings;
 }
 
 }  // namespace sb

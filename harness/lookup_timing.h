@@ -4,7 +4,9 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -29,5 +31,19 @@ struct LookupTiming {
 // lasts about a tenth of a second (at least a 1920×1080 frame's queries, one batch, for a decoder
 // with a block cache), and the median of `repeats` runs is kept.
 LookupTiming timeLookups(const Decoder& decoder, const QuerySet& set, int k, int repeats = 5);
+
+// Single-thread timings of several decoders on the same queries, taken in turn: `rounds` rounds,
+// each running every decoder once on one prefix of `set` (sized as timeLookups sizes it, for the
+// slowest decoder), in the order given and reversed every other round, so that none always
+// follows the same one. This machine's single runs spread by up to 2× with what else it runs,
+// so a ratio of two separate runs does not resolve tens of percent; runs in turn share the load
+// of their round, and the ratios within each round are what to compare. Returns the prefix's
+// length and, per decoder, its ns per query round by round.
+struct InTurnTimings {
+  uint64_t queries = 0;  // per run
+  std::vector<std::vector<double>> nsPerQuery;
+};
+InTurnTimings timeLookupsInTurn(std::span<const Decoder* const> decoders, const QuerySet& set,
+                                int k, int rounds);
 
 }  // namespace sb

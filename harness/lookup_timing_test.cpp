@@ -1,10 +1,12 @@
-// Lookup timings: how many queries a run takes, and what a decoder with a block cache adds — whole
-// frames per batch and the hit rate of the single-thread runs.
+// Lookup timings: how many queries a run takes, what a decoder with a block cache adds — whole
+// frames per batch and the hit rate of the single-thread runs — and decoders timed in turn.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <utility>
+#include <vector>
 
 #include "harness/lookup_timing.h"
 #include "schemes/interface/capabilities.h"
@@ -12,16 +14,21 @@
 namespace sb {
 namespace {
 
-// Answers every query lit after 100 ns a query, so that a tenth of a second is a million
-// queries, under half a frame; with a cache, each batch counts one miss and a hit for every other
-// query, in the calling thread.
+// Each batch a decoder answered, in order: the decoder and the batch's size.
+using BatchLog = std::vector<std::pair<const Decoder*, size_t>>;
+
+// Answers every query lit after `pace` a query (100 ns: a tenth of a second is a million queries,
+// under half a frame); with a cache, each batch counts one miss and a hit for every other query,
+// in the calling thread. Logs each batch if given a log.
 class PacedDecoder final : public Decoder, public BlockCacheStatistics {
  public:
-  explicit PacedDecoder(bool cached) : cached_(cached) {}
+  explicit PacedDecoder(bool cached, std::chrono::nanoseconds pace = std::chrono::nanoseconds(100),
+                        BatchLog* log = nullptr)
+      : cached_(cached), pace_(pace), log_(log) {}
   void lookup(std::span<const Query> queries, int k, std::span<float> visibility) const override {
     checkLookupArguments(queries, k, visibility);
-    const auto until =
-        std::chrono::steady_clock::now() + queries.size() * std::chrono::nanoseconds(100);
+    if (log_) log_->emplace_back(this, queries.size());
+    const auto until = std::chrono::steady_clock::now() + queries.size() * pace_;
     while (std::chrono::steady_clock::now() < until) {
     }
     std::fill_n(visibility.begin(), queries.size(), 1.0f);
@@ -47,6 +54,8 @@ class PacedDecoder final : public Decoder, public BlockCacheStatistics {
     return perThread;
   }
   bool cached_;
+  std::chrono::nanoseconds pace_;
+  BatchLog* log_;
   mutable std::atomic<size_t> largestBatch_{0};
 };
 
@@ -69,6 +78,30 @@ TEST_CASE("a decoder with a block cache is timed on whole frames, with its hit r
         Approx(double(cachedTiming.queries - 1) / double(cachedTiming.queries)));
   // All threads take a contiguous share each, not chunks of a few thousand.
   CHECK(cached.largestBatch() >= cachedTiming.queries / size_t(cachedTiming.threads));
+}
+
+TEST_CASE("decoders timed in turn run one prefix, sized for the slowest, in alternating order",
+          "[lookup]") {
+  const QuerySet set = uniformQueries(3'000'000, 5);
+  BatchLog log;
+  const PacedDecoder fast(false, std::chrono::nanoseconds(5), &log),
+      slow(false, std::chrono::nanoseconds(100), &log);
+  const Decoder* decoders[] = {&fast, &slow};
+  const InTurnTimings timings = timeLookupsInTurn(decoders, set, 1, 3);
+  // A tenth of a second of the slow decoder, about a million queries; the fast one alone would
+  // take the whole set.
+  CHECK(timings.queries >= 4096);
+  CHECK(timings.queries < set.queries.size());
+  REQUIRE(timings.nsPerQuery.size() == 2);
+  for (const std::vector<double>& runs : timings.nsPerQuery) {
+    CHECK(runs.size() == 3);
+    CHECK(std::ranges::all_of(runs, [](double ns) { return ns > 0; }));
+  }
+  // After each decoder's probes, the rounds: fast, slow; slow, fast; fast, slow.
+  REQUIRE(log.size() >= 6);
+  const size_t q = timings.queries;
+  const BatchLog rounds(log.end() - 6, log.end());
+  CHECK(rounds == BatchLog{{&fast, q}, {&slow, q}, {&slow, q}, {&fast, q}, {&fast, q}, {&slow, q}});
 }
 
 }  // namespace sb

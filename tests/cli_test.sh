@@ -160,6 +160,15 @@ grep -q "0 mismatches" "$work/parts.txt" || fail "build in parts did not verify:
 "$sb" build --scene city -m closed -r 128 --scheme sm32 -o "$work/whole.sb" --results "$work/builds" --no-bench > /dev/null
 printf '0.25 0.5 0.4 1\n0.6 0.3 0.2 3\n0.5 0.5 0.9 9\n' > "$work/queries.txt"
 cmp <("$sb" query "$work/parts.sb" < "$work/queries.txt") <("$sb" query "$work/whole.sb" < "$work/queries.txt") || fail "merged and whole structures answer differently"
+# bench: one structure alone, or several of one map in turn, each beside the first by the
+# rounds' ratios; a structure of another map or an even filter is refused.
+"$sb" bench "$work/whole.sb" --scene city --filters 1 --rounds 1 > "$work/bench.txt"
+[ "$(grep -c "ns/query (1 thread)" "$work/bench.txt")" -eq 2 ] || fail "bench of one structure: $(cat "$work/bench.txt")"
+"$sb" bench "$work/whole.sb" "$work/parts.sb" --scene city --filters 1,3 --rounds 3 > "$work/bench.txt"
+[ "$(grep -c "3 rounds of .* queries in turn" "$work/bench.txt")" -eq 4 ] &&
+  [ "$(grep -c "parts.sb .*×" "$work/bench.txt")" -eq 4 ] || fail "bench in turn: $(cat "$work/bench.txt")"
+refused "is of another map than" "$sb" bench "$work/whole.sb" "$work/city.sb" --scene city --rounds 1
+refused "a filter size must be odd" "$sb" bench "$work/whole.sb" --scene city --filters 1,4
 refused "does not build in parts" "$sb" build "${parts[@]}" --scheme openvdb --results "$work/builds"
 refused "must lie from the tile size 32 to below the resolution 128" "$sb" build --scene "$missing" -r 128 --tile 32 --part-size 128 --scheme sm32
 refused "must name its scheme" "$sb" build --scene "$missing" --scheme sm32,sm-zstd -p block=64
