@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Issue 16's lookup goals, timed in turn: point lookups and 9×9 PCF of `delta-dag` beside
+# `dag-mh`'s. Per cell both structures are built once, verified and saved (kept in
+# results/reproduce/delta-dag-lookups/structures, so a stopped run resumes), then
+# `shadowbench bench DAG-MH DELTA-DAG --filters 1,9 --rounds 9` runs both on the same queries in
+# each round; the rounds' ratios are the figures (README, "Using the CLI"). City, terrain and
+# tangle closed and the forest static, from 16K² to --max-resolution (default 64K here; the forest
+# to 64K²: `delta-dag`'s merge at 256K² holds the whole hierarchy, 41 GiB there). The bench output
+# goes to results/reproduce/delta-dag-lookups.txt.
+#   scripts/reproduce/delta-dag-lookups.sh [--max-resolution 64K]
+# shellcheck source=scripts/reproduce/common.sh
+source "$(dirname "$0")/common.sh" --max-resolution 64K "$@"
+structures=$out/$table/structures
+sb_path=$(realpath "$sb")
+mkdir -p "$structures"
+report=$out/$table.txt
+: >"$report.tmp"
+for r in $(resolutions 16K 4 | tr , ' '); do
+  parts=()
+  (($(texels "$r") <= $(texels "$part_size"))) ||
+    parts=(--part-size "$part_size" --parts "$out/parts")
+  for cell in "city:full closed" "terrain:full closed" "tangle:full closed" "forest:full static"; do
+    read -r scene mode <<<"$cell"
+    [ "$scene" != forest:full ] || (($(texels "$r") <= 65536)) || continue
+    files=()
+    for scheme in dag-mh delta-dag; do
+      files+=("${scene%%:*}-$mode-$r-$scheme.sb")
+      file=$structures/${files[-1]}
+      [ -f "$file" ] && continue
+      echo "shadowbench build --scheme $scheme -s $scene -m $mode -r $r ${parts[*]} -o $file" |
+        tee -a "$log"
+      "$sb" build --scheme "$scheme" -s "$scene" -m "$mode" -r "$r" "${parts[@]}" --no-bench \
+        --results "$out/$table/records" -o "$file" >>"$log"
+    done
+    echo "## $scene $mode, $r²: shadowbench bench ${files[*]} --filters 1,9 --rounds 9" |
+      tee -a "$report.tmp"
+    (cd "$structures" && "$sb_path" bench "${files[@]}" -s "$scene" --filters 1,9 --rounds 9) |
+      tee -a "$report.tmp"
+  done
+done
+mv "$report.tmp" "$report"
+echo "wrote $report"
