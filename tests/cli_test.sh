@@ -168,7 +168,9 @@ cmp <("$sb" query "$work/parts.sb" < "$work/queries.txt") <("$sb" query "$work/w
 [ "$(grep -c "3 rounds of .* queries in turn" "$work/bench.txt")" -eq 4 ] &&
   [ "$(grep -c "parts.sb .*×" "$work/bench.txt")" -eq 4 ] || fail "bench in turn: $(cat "$work/bench.txt")"
 refused "is of another map than" "$sb" bench "$work/whole.sb" "$work/city.sb" --scene city --rounds 1
-refused "a filter size must be odd" "$sb" bench "$work/whole.sb" --scene city --filters 1,4
+for bad in 4 19 abc 3x; do
+  refused "'$bad' is not a filter size: odd, from 1 to 17" "$sb" bench "$work/whole.sb" --scene city --filters "1,$bad"
+done
 refused "does not build in parts" "$sb" build "${parts[@]}" --scheme openvdb --results "$work/builds"
 refused "must lie from the tile size 32 to below the resolution 128" "$sb" build --scene "$missing" -r 128 --tile 32 --part-size 128 --scheme sm32
 refused "must name its scheme" "$sb" build --scene "$missing" --scheme sm32,sm-zstd -p block=64

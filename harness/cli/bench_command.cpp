@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <charconv>
 #include <memory>
 #include <stdexcept>
 
@@ -110,12 +111,17 @@ void addBenchCommand(CLI::App& app) {
   sub->add_option("--filters", o->filters, "filter sizes k (k×k PCF; 1 = point lookups)")
       ->delimiter(',')
       ->capture_default_str()
-      ->check(CLI::Range(1, 17) & CLI::Validator(
-                                      [](std::string& value) {
-                                        return std::stoi(value) % 2 ? std::string()
-                                                                    : "a filter size must be odd";
-                                      },
-                                      "ODD"));
+      ->check(CLI::Validator(
+          [](std::string& value) {
+            int k = 0;
+            const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), k);
+            const bool odd = error == std::errc() && end == value.data() + value.size() && k >= 1 &&
+                             k <= 17 && k % 2 == 1;
+            return odd ? std::string()
+                       : fmt::format("'{}' is not a filter size: odd, from 1 to 17 (DESIGN §4)",
+                                     value);
+          },
+          "ODD 1..17"));
   sub->add_option("--rounds", o->rounds, "runs of each structure (their median is reported)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
