@@ -19,11 +19,6 @@ using Clock = std::chrono::steady_clock;
 // The queries of one 1920×1080 frame.
 constexpr size_t kFrameQueries = size_t(1920) * 1080;
 
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values[values.size() / 2];
-}
-
 template <class F>
 double secondsOf(F&& f) {
   const auto start = Clock::now();
@@ -52,6 +47,11 @@ size_t queriesPerRun(const Decoder& decoder, const QuerySet& set, int k, std::sp
 }
 
 }  // namespace
+
+Spread::Spread(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  median = values[values.size() / 2], min = values.front(), max = values.back();
+}
 
 nlohmann::json LookupTiming::toJson() const {
   nlohmann::json j = {{"query_set", querySet},
@@ -101,8 +101,8 @@ LookupTiming timeLookups(const Decoder& decoder, const QuerySet& set, int k, int
       });
     }));
   }
-  timing.nsPerQuerySingleThread = median(single) * 1e9 / double(count);
-  timing.mqueriesPerSecondAllThreads = double(count) / median(all) * 1e-6;
+  timing.nsPerQuerySingleThread = Spread(single).median * 1e9 / double(count);
+  timing.mqueriesPerSecondAllThreads = double(count) / Spread(all).median * 1e-6;
   if (cached.hits + cached.misses != 0)
     timing.cacheHitRate = double(cached.hits) / double(cached.hits + cached.misses);
   return timing;

@@ -15,6 +15,12 @@
 
 namespace sb {
 
+// The median (the upper of the middle two of an even count) and the range of repeated timings.
+struct Spread {
+  double median, min, max;
+  explicit Spread(std::vector<double> values);
+};
+
 struct LookupTiming {
   std::string querySet;
   int filter = 1;

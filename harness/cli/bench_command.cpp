@@ -21,15 +21,6 @@ struct BenchOptions {
   int rounds = 5;
 };
 
-// The median and the range of `values`.
-struct Spread {
-  double median, min, max;
-  explicit Spread(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    median = values[values.size() / 2], min = values.front(), max = values.back();
-  }
-};
-
 void benchOne(const LoadedStructure& loaded, std::span<const QuerySet> sets,
               const BenchOptions& o) {
   for (const QuerySet& set : sets)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Ablation behind delta-dag's README "9×9 PCF against the point lookup": how much walking a point
-# lookup and a 9×9 kernel take. Commit 03e053d with delta-dag-kernel-counts.patch: the walks
+# Ablation behind delta-dag's README "Why the ratio grows with the skip table": how much walking
+# a point lookup and a 9×9 kernel take. Commit 03e053d with delta-dag-kernel-counts.patch: the walks
 # count, on their thread, the packs a kernel walk decodes to visit their children, the steps to a
 # child (a kernel's steps to each child it overlaps included) and the skip-table entries read, and
 # `shadowbench bench` prints them per query (100 000 queries of each set, one thread) before each
