@@ -65,17 +65,20 @@ DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t root
   if (validated) buildSkipTable();
 }
 
-int DeltaDag::skipLevelFor(uint64_t packBytes, int levels) {
+int DeltaDag::skipLevelFor(uint64_t packBits, int levels) {
+  const uint64_t packBytes = packBits / 8;
   const uint64_t budget = std::max(packBytes / 32, std::min<uint64_t>(1 << 20, packBytes / 5));
+  const uint64_t entryBytes = 4 * skipEntryWords(packBits);
   int level = 0;
-  while (level < levels && (uint64_t(sizeof(SkipEntry)) << (2 * (level + 1))) <= budget) ++level;
+  while (level < levels && (entryBytes << (2 * (level + 1))) <= budget) ++level;
   return level;
 }
 
 void DeltaDag::buildSkipTable() {
-  skipLevel_ = skipLevelFor(bits_ / 8, levels_);
+  skipLevel_ = skipLevelFor(bits_, levels_);
+  skipEntryWords_ = skipEntryWords(bits_);
   const uint32_t side = uint32_t(1) << skipLevel_;
-  skip_.resize(size_t(side) * side);
+  skip_.resize(size_t(side) * side * skipEntryWords_);
   for (uint32_t y = 0; y < side; ++y)
     for (uint32_t x = 0; x < side; ++x) {
       const uint32_t i = x << (levels_ - skipLevel_), j = y << (levels_ - skipLevel_);
@@ -83,7 +86,8 @@ void DeltaDag::buildSkipTable() {
       while (walk.kind != MhChild::Leaf && walk.level < skipLevel_ &&
              step(walk, mhChildIndex(i, j, levels_ - walk.level - 1))) {
       }
-      skip_[size_t(y) * side + x] = SkipEntry::of(walk);
+      putSkipEntry(&skip_[(size_t(y) * side + x) * skipEntryWords_], skipEntryWords_, walk,
+                   skipLevel_);
     }
 }
 
@@ -103,7 +107,7 @@ SizeBreakdown DeltaDag::size() const {
           {"pack formats", formats_.size() * sizeof(FormatEntry) + 1},
           {"packs", (bits_ + 7) / 8},
           {"format decode table", decode_.size() * sizeof(uint16_t)},
-          {"skip table", skip_.size() * sizeof(SkipEntry)}};
+          {"skip table", skip_.size() * sizeof(uint32_t)}};
 }
 
 void DeltaDag::save(ByteWriter& out) const {

@@ -208,21 +208,25 @@ class DeltaDag {
     uint8_t level;
   };
 
-  // A walk as the skip table keeps it, in 12 bytes where a Walk takes 16 with its padding, so
-  // that a level of the table takes 3/4 of the bytes: the position's bits above 32 (19 of them:
-  // packs of up to 2^51 bits, 256 TiB), the kind, the symmetry and the level share a word.
-  struct SkipEntry {
-    uint32_t key, positionLow, rest;
-    static SkipEntry of(const Walk& w) {
-      return {w.key, uint32_t(w.position),
-              uint32_t(w.position >> 32) | uint32_t(w.kind) << 19 | uint32_t(w.symmetry) << 21 |
-                  uint32_t(w.level) << 24};
-    }
-    Walk walk() const {
-      return {uint64_t(rest & 0x7ffff) << 32 | positionLow, key, MhChild(rest >> 19 & 3),
-              Symmetry(rest >> 21 & 7), uint8_t(rest >> 24)};
-    }
-  };
+  // A walk at the skip level as the table keeps it: its key, then its place, 1 + its pack's
+  // position × 8 + its symmetry, or 0 for a walk that ended above the level (a missing child's
+  // square takes the key as a leaf's does), so that neither the kind nor the level takes bits.
+  // The place takes one word where the packs hold fewer than 2^29 bits (64 MiB: every cell up to
+  // 64K²), two above: entries of 8 or 12 bytes.
+  static uint32_t skipEntryWords(uint64_t packBits) { return packBits < (1u << 29) ? 2 : 3; }
+  static void putSkipEntry(uint32_t* entry, uint32_t words, const Walk& walk, int skipLevel) {
+    const uint64_t place = walk.kind == MhChild::Leaf || walk.level < skipLevel
+                               ? 0
+                               : 1 + (walk.position << 3 | walk.symmetry);
+    entry[0] = walk.key;
+    entry[1] = uint32_t(place);
+    if (words == 3) entry[2] = uint32_t(place >> 32);
+  }
+  static Walk skipEntryWalk(const uint32_t* entry, uint32_t words, int skipLevel) {
+    const uint64_t place = words == 2 ? entry[1] : entry[1] | uint64_t(entry[2]) << 32;
+    return {(place - 1) >> 3, entry[0], place == 0 ? MhChild::Leaf : MhChild::Full,
+            Symmetry((place - 1) & 7), uint8_t(skipLevel)};
+  }
 
   DeltaDag() = default;
   DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
@@ -247,7 +251,8 @@ class DeltaDag {
   // Where a walk to texel (i, j) stands at the skip level (or above it, where it ended).
   Walk skipWalk(uint32_t i, uint32_t j) const {
     const uint32_t shift = uint32_t(levels_ - skipLevel_);
-    return skip_[(size_t(j >> shift) << skipLevel_) + (i >> shift)].walk();
+    const size_t square = (size_t(j >> shift) << skipLevel_) + (i >> shift);
+    return skipEntryWalk(&skip_[square * skipEntryWords_], skipEntryWords_, skipLevel_);
   }
 
   uint32_t texelKey(uint32_t i, uint32_t j) const {
@@ -278,8 +283,8 @@ class DeltaDag {
       }
   }
 
-  // The skip table's level for packs of `packBytes` bytes (buildSkipTable).
-  static int skipLevelFor(uint64_t packBytes, int levels);
+  // The skip table's level for packs of `packBits` bits (buildSkipTable).
+  static int skipLevelFor(uint64_t packBits, int levels);
 
   SizeBreakdown size() const;
   void save(ByteWriter& out) const;
@@ -393,7 +398,8 @@ class DeltaDag {
 
   int levels_ = 0;
   int skipLevel_ = 0;
-  std::vector<SkipEntry> skip_;
+  uint32_t skipEntryWords_ = 2;
+  std::vector<uint32_t> skip_;        // skipEntryWords_ words a square
   MhChild rootKind_ = MhChild::Leaf;  // Leaf (one key for the map) or Full (a pack below)
   uint32_t rootKey_ = 0;
   uint64_t rootPosition_ = 0;
@@ -407,8 +413,6 @@ class DeltaDag {
   std::vector<uint8_t> bytes_;    // bits_ bits, then 8 bytes of padding
   uint64_t bits_ = 0;
 };
-
-static_assert(sizeof(DeltaDag::SkipEntry) == 12);
 
 // What the encode step measured, for the build record's counters.
 struct Statistics {

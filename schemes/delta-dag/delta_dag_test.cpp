@@ -5,6 +5,7 @@
 #include <bit>
 #include <limits>
 #include <map>
+#include <tuple>
 
 #include <catch2/catch.hpp>
 
@@ -104,37 +105,55 @@ TEST_CASE("every texel's key lies in its interval, for every option", "[delta-da
             }
 }
 
-// The README's skip table: entries of 12 bytes for every square of the deepest level whose table
-// takes at most 1 MiB and 1/5 of the packs' bytes, or 1/32 of them where that is more.
+// The README's skip table: entries of 8 bytes (12 where the packs hold 2^29 bits or more) for
+// every square of the deepest level whose table takes at most 1 MiB and 1/5 of the packs' bytes,
+// or 1/32 of them where that is more.
 TEST_CASE("the skip table's level follows its budget", "[delta-dag]") {
-  CHECK(DeltaDag::skipLevelFor(61'439, 10) == 4);    // 1/5 just short of 4^5 entries (12 KiB)
-  CHECK(DeltaDag::skipLevelFor(61'440, 10) == 5);    // 1/5: 12 KiB
-  CHECK(DeltaDag::skipLevelFor(20 << 20, 14) == 8);  // 1/5 is 4 MiB, but at most 1 MiB
-  CHECK(DeltaDag::skipLevelFor((96 << 20) - 32, 14) == 8);  // 1/32 just short of 3 MiB
-  CHECK(DeltaDag::skipLevelFor(96 << 20, 14) == 9);         // 1/32: 3 MiB
-  CHECK(DeltaDag::skipLevelFor(1 << 30, 5) == 5);           // no deeper than the map
+  CHECK(DeltaDag::skipEntryWords((uint64_t(1) << 29) - 1) == 2);
+  CHECK(DeltaDag::skipEntryWords(uint64_t(1) << 29) == 3);
+  CHECK(DeltaDag::skipLevelFor(40'959 * 8, 10) == 4);  // 1/5 just short of 4^5 entries (8 KiB)
+  CHECK(DeltaDag::skipLevelFor(40'960 * 8, 10) == 5);  // 1/5: 8 KiB
+  CHECK(DeltaDag::skipLevelFor(uint64_t(20) << 23, 14) == 8);  // 1/5 is 4 MiB, but at most 1 MiB
+  CHECK(DeltaDag::skipLevelFor((uint64_t(96) << 23) - 256, 14) == 8);  // 1/32 short of 3 MiB
+  CHECK(DeltaDag::skipLevelFor(uint64_t(96) << 23, 14) == 9);  // 1/32: 3 MiB of 12-byte entries
+  CHECK(DeltaDag::skipLevelFor(uint64_t(1) << 33, 5) == 5);    // no deeper than the map
 }
 
-// A skip entry keeps every field of a walk, positions above 2^32 bits included (the city at 256K²
-// holds 2^29 bits; the entry's limit is 2^51).
+// A skip entry gives back the walk it was made of at the skip level, in either width, with
+// positions up to the width's limit; a walk that ended above the level (a leaf, or a missing
+// child whose square takes the walk's key) comes back as a leaf with its key.
 TEST_CASE("a skip entry gives back the walk it was made of", "[delta-dag]") {
-  const DeltaDag::Walk walks[] = {
-      {0, 0, MhChild::Leaf, delta_dag::Symmetry(0), 0},
-      {(uint64_t(1) << 51) - 1, 0xffffffff, MhChild::Empty, delta_dag::Symmetry(7), 30},
-      {(uint64_t(1) << 32) + 12345, 77, MhChild::Full, delta_dag::Symmetry(5), 9}};
-  for (const DeltaDag::Walk& walk : walks) {
-    const DeltaDag::Walk back = DeltaDag::SkipEntry::of(walk).walk();
+  const int level = 9;
+  const std::pair<DeltaDag::Walk, uint32_t> walks[] = {
+      {{(uint64_t(1) << 29) - 2, 0xffffffff, MhChild::Full, delta_dag::Symmetry(7), level}, 2},
+      {{0, 77, MhChild::Empty, delta_dag::Symmetry(5), level}, 2},
+      {{(uint64_t(1) << 51) - 1, 0xffffffff, MhChild::Empty, delta_dag::Symmetry(7), level}, 3},
+      {{(uint64_t(1) << 32) + 12345, 77, MhChild::Full, delta_dag::Symmetry(5), level}, 3}};
+  for (const auto& [walk, words] : walks) {
+    uint32_t entry[3] = {};
+    DeltaDag::putSkipEntry(entry, words, walk, level);
+    const DeltaDag::Walk back = DeltaDag::skipEntryWalk(entry, words, level);
     CHECK(back.position == walk.position);
     CHECK(back.key == walk.key);
-    CHECK(back.kind == walk.kind);
+    CHECK(back.kind != MhChild::Leaf);
     CHECK(back.symmetry == walk.symmetry);
-    CHECK(back.level == walk.level);
+    CHECK(back.level == level);
   }
+  const DeltaDag::Walk ended[] = {{123, 5, MhChild::Leaf, delta_dag::Symmetry(3), level - 2},
+                                  {123, 6, MhChild::Full, delta_dag::Symmetry(3), level - 1}};
+  for (const uint32_t words : {2u, 3u})
+    for (const DeltaDag::Walk& walk : ended) {
+      uint32_t entry[3] = {};
+      DeltaDag::putSkipEntry(entry, words, walk, level);
+      const DeltaDag::Walk back = DeltaDag::skipEntryWalk(entry, words, level);
+      CHECK(back.kind == MhChild::Leaf);
+      CHECK(back.key == walk.key);
+    }
 }
 
-// The table built is the level's, 12 bytes a square, on random maps of 256² (packs of about 25
+// The table built is the level's, 8 bytes a square, on random maps of 256² (packs of about 25
 // KB), 1024² (about 530 KB) and 2048² (about 2 MB).
-TEST_CASE("the skip table holds 12 bytes a square of its level", "[delta-dag]") {
+TEST_CASE("the skip table holds 8 bytes a square of its level", "[delta-dag]") {
   const std::pair<uint64_t, uint32_t> maps[] = {{1, 256},  {2, 256},  {3, 256}, {4, 256},
                                                 {1, 1024}, {2, 1024}, {1, 2048}};
   for (const auto& [seed, resolution] : maps) {
@@ -143,10 +162,50 @@ TEST_CASE("the skip table holds 12 bytes a square of its level", "[delta-dag]") 
     uint64_t skipBytes = 0;
     for (const auto& [part, bytes] : dag.size())
       if (part == "skip table") skipBytes = bytes;
-    const int level = DeltaDag::skipLevelFor(dag.bits() / 8, dag.levels());
+    const int level = DeltaDag::skipLevelFor(dag.bits(), dag.levels());
     INFO("seed " << seed << ", R " << resolution << ", packs " << dag.bits() / 8 << " bytes");
     CHECK(level >= 3);
-    CHECK(skipBytes == uint64_t(12) << (2 * level));
+    CHECK(skipBytes == uint64_t(8) << (2 * level));
+  }
+}
+
+// A walk that ends above the skip level (at a leaf or a missing child) is kept as a leaf with its
+// key: on a 512² map of one interval but for two random blocks, where most of the table's squares
+// are answered above its level, every texel and every rectangle through the loaded structure.
+TEST_CASE("walks that end above the skip level answer their whole square", "[delta-dag]") {
+  SyntheticMap map = SyntheticMap::uniform(512, 0.25f, 0.75f);
+  for (const auto& [seed, x0, y0, side] : {std::tuple{1u, 64u, 128u, 64u}, {2u, 300u, 400u, 8u}}) {
+    const SyntheticMap block = SyntheticMap::random(side, DepthMode::Closed, seed);
+    for (uint32_t j = 0; j < side; ++j)
+      for (uint32_t i = 0; i < side; ++i) {
+        map.lo[size_t(y0 + j) * 512 + x0 + i] = block.lo[size_t(j) * side + i];
+        map.hi[size_t(y0 + j) * 512 + x0 + i] = block.hi[size_t(j) * side + i];
+      }
+  }
+  const DeltaDag built = delta_dag::encode(hierarchyOf(map, 16), {}).dag;
+  const DeltaDag dag = roundTrip(built, map.info(SchemeKind::Depth));
+  const int level = DeltaDag::skipLevelFor(dag.bits(), dag.levels());
+  REQUIRE(level >= 2);
+  const uint32_t side = 512 >> level;
+  uint32_t answeredAbove = 0;
+  for (uint32_t j = 0; j < 512; j += side)
+    for (uint32_t i = 0; i < 512; i += side)
+      answeredAbove += dag.skipWalk(i, j).kind == MhChild::Leaf;
+  CHECK(answeredAbove > (1u << (2 * level)) / 2);
+  CHECK(texelsOutside(map, dag) == 0);
+  uint64_t state = 5;
+  for (int trial = 0; trial < 300; ++trial) {
+    const uint32_t width = 1 + uint32_t(nextRandom(state) % 100);
+    const uint32_t height = 1 + uint32_t(nextRandom(state) % 100);
+    const uint32_t i0 = uint32_t(nextRandom(state) % (513 - width));
+    const uint32_t j0 = uint32_t(nextRandom(state) % (513 - height));
+    const TexelRect rect{i0, j0, i0 + width - 1, j0 + height - 1};
+    std::map<uint32_t, uint64_t> walked, pointwise;
+    dag.forEachKeyBlock(rect, [&](uint32_t key, uint64_t texels) { walked[key] += texels; });
+    for (uint32_t j = rect.j0; j <= rect.j1; ++j)
+      for (uint32_t i = rect.i0; i <= rect.i1; ++i) ++pointwise[dag.texelKey(i, j)];
+    INFO("rect " << i0 << ", " << j0 << ", " << width << " × " << height);
+    REQUIRE(walked == pointwise);
   }
 }
 
