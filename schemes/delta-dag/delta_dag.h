@@ -211,8 +211,8 @@ class DeltaDag {
   // A walk at the skip level as the table keeps it: its key, then its place, 1 + its pack's
   // position × 8 + its symmetry, or 0 for a walk that ended above the level (a missing child's
   // square takes the key as a leaf's does), so that neither the kind nor the level takes bits.
-  // The place takes one word where the packs hold fewer than 2^29 bits (64 MiB: every cell up to
-  // 64K²), two above: entries of 8 or 12 bytes.
+  // The place takes one word where the packs hold fewer than 2^29 bits (64 MiB: every closed
+  // cell built up to 64K²), two above: entries of 8 or 12 bytes.
   static uint32_t skipEntryWords(uint64_t packBits) { return packBits < (1u << 29) ? 2 : 3; }
   static void putSkipEntry(uint32_t* entry, uint32_t words, const Walk& walk, int skipLevel) {
     const uint64_t place = walk.kind == MhChild::Leaf || walk.level < skipLevel
@@ -248,7 +248,7 @@ class DeltaDag {
                                  : step(explicitFormat(word >> escapeBits_, escapeBits_), walk, k);
   }
 
-  // Where a walk to texel (i, j) stands at the skip level (or above it, where it ended).
+  // Where a walk to texel (i, j) stands at the skip level (a leaf where it ended above it).
   Walk skipWalk(uint32_t i, uint32_t j) const {
     const uint32_t shift = uint32_t(levels_ - skipLevel_);
     const size_t square = (size_t(j >> shift) << skipLevel_) + (i >> shift);
@@ -393,7 +393,7 @@ class DeltaDag {
   // that is more. The packs just below DAG-MH's level 6 lie apart, each followed by its private
   // tree, so a walk's first steps there miss the second-level cache: a table that holds them
   // within 1 MiB (this machine's L2 a core) takes those steps off every walk, and 1/5 keeps the
-  // small structures small (the terrain at 16K² stays at level 5, 12 KiB).
+  // small structures small (the terrain at 16K² stays at level 5, 8 KiB).
   void buildSkipTable();
 
   int levels_ = 0;
