@@ -91,6 +91,13 @@ void DeltaDag::buildSkipTable() {
     }
 }
 
+uint64_t DeltaDag::skipSquaresAnsweredAbove() const {
+  uint64_t answered = 0;
+  for (size_t entry = 0; entry < skip_.size(); entry += skipEntryWords_)
+    answered += skipEntryWalk(&skip_[entry], skipEntryWords_, skipLevel_).kind == MhChild::Leaf;
+  return answered;
+}
+
 uint32_t PackFormat::explicitBits() const {
   const PackShape& shape = packShape(flags);
   return 8 + (shape.hasValues ? 11 : 0) +

@@ -285,6 +285,9 @@ class DeltaDag {
 
   // The skip table's level for packs of `packBits` bits (buildSkipTable).
   static int skipLevelFor(uint64_t packBits, int levels);
+  int skipLevel() const { return skipLevel_; }
+  // The skip table's squares whose walk ended above its level: a lookup there reads only the entry.
+  uint64_t skipSquaresAnsweredAbove() const;
 
   SizeBreakdown size() const;
   void save(ByteWriter& out) const;

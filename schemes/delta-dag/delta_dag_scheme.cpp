@@ -38,6 +38,8 @@ std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Optio
   context.count("symmetry bits", s.symmetryBits);
   context.count("address unit bits", uint64_t(1) << s.addressUnit);
   context.count("padding bits", s.paddingBits);
+  context.count("skip level", uint64_t(encoded.dag.skipLevel()));
+  context.count("skip squares answered above", encoded.dag.skipSquaresAnsweredAbove());
   return std::make_unique<delta_dag::Decoder>(std::move(encoded.dag));
 }
 

@@ -192,6 +192,8 @@ TEST_CASE("walks that end above the skip level answer their whole square", "[del
     for (uint32_t i = 0; i < 512; i += side)
       answeredAbove += dag.skipWalk(i, j).kind == MhChild::Leaf;
   CHECK(answeredAbove > (1u << (2 * level)) / 2);
+  CHECK(dag.skipLevel() == level);
+  CHECK(dag.skipSquaresAnsweredAbove() == answeredAbove);
   CHECK(texelsOutside(map, dag) == 0);
   uint64_t state = 5;
   for (int trial = 0; trial < 300; ++trial) {
