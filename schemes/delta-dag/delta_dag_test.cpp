@@ -42,6 +42,24 @@ uint64_t texelsOutside(const SyntheticMap& map, const DeltaDag& dag) {
   return wrong;
 }
 
+// A random rectangle of sides 1 to maxSide within a map of side `resolution`.
+TexelRect randomRect(uint64_t& state, uint32_t resolution, uint32_t maxSide) {
+  const uint32_t width = 1 + uint32_t(nextRandom(state) % maxSide);
+  const uint32_t height = 1 + uint32_t(nextRandom(state) % maxSide);
+  const uint32_t i0 = uint32_t(nextRandom(state) % (resolution + 1 - width));
+  const uint32_t j0 = uint32_t(nextRandom(state) % (resolution + 1 - height));
+  return {i0, j0, i0 + width - 1, j0 + height - 1};
+}
+
+// Whether one kernel walk over `rect` gives each key as many texels as a point walk per texel.
+bool kernelWalkMatchesPointWalks(const DeltaDag& dag, const TexelRect& rect) {
+  std::map<uint32_t, uint64_t> walked, pointwise;
+  dag.forEachKeyBlock(rect, [&](uint32_t key, uint64_t texels) { walked[key] += texels; });
+  for (uint32_t j = rect.j0; j <= rect.j1; ++j)
+    for (uint32_t i = rect.i0; i <= rect.i1; ++i) ++pointwise[dag.texelKey(i, j)];
+  return walked == pointwise;
+}
+
 // A 64² map of one motif repeated, each copy raised by its own depth, with bands of the same
 // width: the copies' relative intervals are equal, so their packs must be shared.
 SyntheticMap repeatedMotif(uint64_t seed, uint32_t motifSize) {
@@ -197,17 +215,9 @@ TEST_CASE("walks that end above the skip level answer their whole square", "[del
   CHECK(texelsOutside(map, dag) == 0);
   uint64_t state = 5;
   for (int trial = 0; trial < 300; ++trial) {
-    const uint32_t width = 1 + uint32_t(nextRandom(state) % 100);
-    const uint32_t height = 1 + uint32_t(nextRandom(state) % 100);
-    const uint32_t i0 = uint32_t(nextRandom(state) % (513 - width));
-    const uint32_t j0 = uint32_t(nextRandom(state) % (513 - height));
-    const TexelRect rect{i0, j0, i0 + width - 1, j0 + height - 1};
-    std::map<uint32_t, uint64_t> walked, pointwise;
-    dag.forEachKeyBlock(rect, [&](uint32_t key, uint64_t texels) { walked[key] += texels; });
-    for (uint32_t j = rect.j0; j <= rect.j1; ++j)
-      for (uint32_t i = rect.i0; i <= rect.i1; ++i) ++pointwise[dag.texelKey(i, j)];
-    INFO("rect " << i0 << ", " << j0 << ", " << width << " × " << height);
-    REQUIRE(walked == pointwise);
+    const TexelRect rect = randomRect(state, 512, 100);
+    INFO("rect " << rect.i0 << ", " << rect.j0 << " to " << rect.i1 << ", " << rect.j1);
+    REQUIRE(kernelWalkMatchesPointWalks(dag, rect));
   }
 }
 
@@ -220,17 +230,10 @@ TEST_CASE("a kernel walk gives every texel of its rectangle its point walk's key
     const SyntheticMap map = SyntheticMap::random(256, DepthMode::Closed, seed);
     const DeltaDag dag = delta_dag::encode(hierarchyOf(map, 16), {}).dag;
     for (int trial = 0; trial < 400; ++trial) {
-      const uint32_t width = 1 + uint32_t(nextRandom(state) % (trial % 4 == 0 ? 200 : 12));
-      const uint32_t height = 1 + uint32_t(nextRandom(state) % (trial % 4 == 0 ? 200 : 12));
-      const uint32_t i0 = uint32_t(nextRandom(state) % (257 - width));
-      const uint32_t j0 = uint32_t(nextRandom(state) % (257 - height));
-      const TexelRect rect{i0, j0, i0 + width - 1, j0 + height - 1};
-      std::map<uint32_t, uint64_t> walked, pointwise;
-      dag.forEachKeyBlock(rect, [&](uint32_t key, uint64_t texels) { walked[key] += texels; });
-      for (uint32_t j = rect.j0; j <= rect.j1; ++j)
-        for (uint32_t i = rect.i0; i <= rect.i1; ++i) ++pointwise[dag.texelKey(i, j)];
-      INFO("seed " << seed << ", rect " << i0 << ", " << j0 << ", " << width << " × " << height);
-      REQUIRE(walked == pointwise);
+      const TexelRect rect = randomRect(state, 256, trial % 4 == 0 ? 200 : 12);
+      INFO("seed " << seed << ", rect " << rect.i0 << ", " << rect.j0 << " to " << rect.i1 << ", "
+                   << rect.j1);
+      REQUIRE(kernelWalkMatchesPointWalks(dag, rect));
     }
   }
 }
