@@ -28,6 +28,13 @@ double secondsOf(F&& f) {
 
 constexpr size_t kChunk = 4096;
 
+// The seconds `decoder` takes to answer the first `count` queries of `set` in one batch.
+double secondsOfPrefix(const Decoder& decoder, const QuerySet& set, int k, size_t count,
+                       std::span<float> answers) {
+  return secondsOf(
+      [&] { decoder.lookup(std::span(set.queries).first(count), k, answers.first(count)); });
+}
+
 // The queries of one run of `decoder` on `set` with a k×k filter: as many as take about a tenth
 // of a second by a probe, so that slow filters do not take minutes, and for a decoder with a block
 // cache at least a 1920×1080 frame (issue 13: a frame's queries arrive as one batch). The probe is
@@ -35,11 +42,8 @@ constexpr size_t kChunk = 4096;
 // sized the terrain's point lookups at 16K² to runs of 4 ms.
 size_t queriesPerRun(const Decoder& decoder, const QuerySet& set, int k, std::span<float> answers) {
   const size_t probe = std::min(set.queries.size(), kChunk);
-  const auto runProbe = [&] {
-    decoder.lookup(std::span(set.queries).first(probe), k, answers.first(probe));
-  };
-  runProbe();
-  const double probeSeconds = std::max(secondsOf(runProbe), 1e-9);
+  secondsOfPrefix(decoder, set, k, probe, answers);
+  const double probeSeconds = std::max(secondsOfPrefix(decoder, set, k, probe, answers), 1e-9);
   const size_t count =
       std::clamp<size_t>(size_t(0.1 / probeSeconds * double(probe)), probe, set.queries.size());
   if (!decoder.blockCacheStatistics()) return count;
@@ -71,9 +75,6 @@ LookupTiming timeLookups(const Decoder& decoder, const QuerySet& set, int k, int
   timing.threads = tbb::this_task_arena::max_concurrency();
   if (set.queries.empty()) return timing;
   std::vector<float> answers(set.queries.size());
-  auto run = [&](size_t count) {
-    decoder.lookup(std::span(set.queries).first(count), k, std::span(answers).first(count));
-  };
   const size_t count = queriesPerRun(decoder, set, k, answers);
   // A decoder with a block cache answers a batch in an order of its own, so that each block is
   // decompressed once per batch: all threads take a contiguous share of each frame.
@@ -87,7 +88,7 @@ LookupTiming timeLookups(const Decoder& decoder, const QuerySet& set, int k, int
   std::vector<double> single, all;
   for (int r = 0; r < repeats; ++r) {
     const BlockCacheStatistics::Counts before = cache ? cache->threadCounts() : cached;
-    single.push_back(secondsOf([&] { run(count); }));
+    single.push_back(secondsOfPrefix(decoder, set, k, count, answers));
     if (cache) {
       const BlockCacheStatistics::Counts after = cache->threadCounts();
       cached.hits += after.hits - before.hits;
@@ -121,11 +122,8 @@ InTurnTimings timeLookupsInTurn(std::span<const Decoder* const> decoders, const 
   for (int r = 0; r < rounds; ++r)
     for (size_t turn = 0; turn < decoders.size(); ++turn) {
       const size_t d = r % 2 ? decoders.size() - 1 - turn : turn;
-      timings.nsPerQuery[d].push_back(secondsOf([&] {
-                                        decoders[d]->lookup(std::span(set.queries).first(count), k,
-                                                            std::span(answers).first(count));
-                                      }) *
-                                      1e9 / double(count));
+      timings.nsPerQuery[d].push_back(secondsOfPrefix(*decoders[d], set, k, count, answers) * 1e9 /
+                                      double(count));
     }
   return timings;
 }
