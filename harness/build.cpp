@@ -1,5 +1,6 @@
 #include "harness/build.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <utility>
@@ -21,6 +22,15 @@ void TimedBuildContext::phase(std::string_view name) {
 
 void TimedBuildContext::count(std::string_view name, uint64_t value) {
   counters[std::string(name)] += value;
+}
+
+void TimedBuildContext::reserve(uint64_t bytes, std::string_view what) {
+  const uint64_t available = availableMemoryBytes();
+  if (bytes > available)
+    throw std::runtime_error(
+        fmt::format("{} needs {:.2f} GiB more but only {:.2f} GiB is available", what,
+                    bytes / double(1ull << 30), available / double(1ull << 30)));
+  reservedRss_ = std::max(reservedRss_, currentRssBytes() + bytes);
 }
 
 void TimedBuildContext::enter() {
@@ -115,6 +125,8 @@ std::vector<BuildOutcome> buildStructures(const DepthSource& source,
     outcome.closedFallbacks = source.closedFallbacks() - fallbacksBefore;
     outcome.baselineRssBytes = baselineRss;
     outcome.peakRssBytes = peakRssBytes();
+    outcome.estimatedBytes =
+        std::max(outcome.estimatedBytes, contexts[b].reservedAbove(baselineRss));
   }
   return outcomes;
 }

@@ -72,6 +72,7 @@ class TimedBuildContext final : public BuildContext {
   explicit TimedBuildContext(std::string unnamed = "encode") : unnamedPhase_(std::move(unnamed)) {}
   void phase(std::string_view name) override;
   void count(std::string_view name, uint64_t value) override;
+  void reserve(uint64_t bytes, std::string_view what) override;
 
   void enter();  // the scheme is called now
   void leave();  // and has returned
@@ -80,12 +81,18 @@ class TimedBuildContext final : public BuildContext {
 
   std::vector<std::pair<std::string, double>> phases;
   std::map<std::string, uint64_t> counters;
+  // The scheme's reserve() calls as declared memory above `baselineRss`: the most the process
+  // held plus what it reserved at one call, less the baseline (0 without a call).
+  uint64_t reservedAbove(uint64_t baselineRss) const {
+    return reservedRss_ > baselineRss ? reservedRss_ - baselineRss : 0;
+  }
 
  private:
   void credit();
   void add(const std::string& phase, double seconds);
 
   std::string unnamedPhase_;
+  uint64_t reservedRss_ = 0;
   std::string current_;  // empty until the scheme names a phase
   double unnamed_ = 0;   // time before the scheme named one
   std::chrono::steady_clock::time_point since_ = std::chrono::steady_clock::now();

@@ -88,6 +88,21 @@ TEST_CASE("a build that cannot fit is refused before it starts, naming the figur
   }
 }
 
+TEST_CASE(
+    "memory a scheme reserves during a build is refused where it is not available, else "
+    "declared",
+    "[build]") {
+  TimedBuildContext context;
+  CHECK(context.reservedAbove(0) == 0);
+  CHECK_THROWS_WITH(context.reserve(availableMemoryBytes() + (uint64_t(1) << 30), "a step"),
+                    Catch::Contains("a step needs") && Catch::Contains("GiB is available"));
+  CHECK(context.reservedAbove(0) == 0);
+  const uint64_t held = currentRssBytes();
+  context.reserve(uint64_t(1) << 20, "a small step");
+  CHECK(context.reservedAbove(held) >= uint64_t(1) << 20);
+  CHECK(context.reservedAbove(UINT64_MAX) == 0);
+}
+
 TEST_CASE("a record lists only the phases a scheme ran", "[build][regression]") {
   // Every build used to record an "encode" phase of almost no time beside the phases the scheme
   // named from its first call on.

@@ -112,6 +112,7 @@ PartsEncoded encodeParts(const DepthSource& source, std::span<const PartsTarget>
     const MapPart part = MapPart::of(index, shape.partSize);
     const std::vector<size_t>& lack = lacking[index];
     resetPeakRss();
+    const uint64_t baselineRss = currentRssBytes();
     const uint64_t fallbacksBefore = source.closedFallbacks();
     const auto start = Clock::now();
     // One encoder per distinct part payload (SchemeInfo::partPayload); encoderOf[l] is the one
@@ -160,7 +161,7 @@ PartsEncoded encodeParts(const DepthSource& source, std::span<const PartsTarget>
       }
       costs.wallSeconds = secondsSince(start);
       costs.peakRssBytes = peakRssBytes();
-      costs.estimatedBytes = passBytes;
+      costs.estimatedBytes = std::max(passBytes, contexts[e].reservedAbove(baselineRss));
       savePartFile(partFilePath(target.folder, index), identityOfPart(target, index), costs,
                    payloads[e].bytes());
     }
@@ -269,6 +270,8 @@ BuildOutcome mergeParts(
   outcome.mergePeakRssBytes = peakRssBytes();
   outcome.partsPeakRssBytes = partsPeak;
   outcome.peakRssBytes = std::max(partsPeak, outcome.mergePeakRssBytes);
+  outcome.mergeEstimatedBytes =
+      std::max(outcome.mergeEstimatedBytes, context.reservedAbove(outcome.baselineRssBytes));
   outcome.estimatedBytes = std::max(outcome.partsEstimatedBytes, outcome.mergeEstimatedBytes);
   return outcome;
 }

@@ -125,6 +125,7 @@ class RecordingContext final : public BuildContext {
   void count(std::string_view name, uint64_t value) override {
     counters[std::string(name)] += value;
   }
+  void reserve(uint64_t, std::string_view) override {}
   std::vector<std::string> phases;
   std::map<std::string, uint64_t> counters;
 };

@@ -101,6 +101,11 @@ class BuildContext {
   // Everything from now until the next phase() call (or the build's end) belongs to `name`.
   virtual void phase(std::string_view name) = 0;
   virtual void count(std::string_view name, uint64_t value) = 0;
+  // Before a step whose memory follows counts known only during the build (the distinct packs a
+  // hash-consing finds): `bytes` more than the process holds now. The harness throws where they
+  // are not available (`what` names the scheme and the step), before they are taken, and counts
+  // them in the build's declared memory.
+  virtual void reserve(uint64_t bytes, std::string_view what) = 0;
 };
 
 class Encoder {

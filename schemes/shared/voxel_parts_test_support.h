@@ -16,6 +16,7 @@ class CountingContext final : public BuildContext {
  public:
   void phase(std::string_view) override {}
   void count(std::string_view name, uint64_t value) override { counts[std::string(name)] += value; }
+  void reserve(uint64_t, std::string_view) override {}
   std::map<std::string, uint64_t> counts;
 };
 

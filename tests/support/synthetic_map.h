@@ -23,6 +23,7 @@ class NullBuildContext final : public BuildContext {
  public:
   void phase(std::string_view) override {}
   void count(std::string_view, uint64_t) override {}
+  void reserve(uint64_t, std::string_view) override {}
 };
 
 // Merges part payloads as the harness does: every part in index order, once per pass the merger
