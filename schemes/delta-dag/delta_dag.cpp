@@ -21,6 +21,17 @@ constexpr uint32_t kNoPack = UINT32_MAX;
 // 16 tie and 4 is 5 % larger.
 constexpr uint64_t kMinFormatUses = 8;
 
+static_assert(sizeof(Pack) == 40, "kFindingBytesPerPack counts 40 bytes a pack");
+// The first count of distinct packs at which hash-consing reserves (kFindingBytesPerPack), and
+// every power of two above it: where the store, the hashes and the slots double.
+constexpr uint64_t kFirstReserve = uint64_t(1) << 16;
+// Reserved once the packs are found and the hierarchy and the per-node arrays freed, per pack
+// beside the store: while oriented, its references, estimated tree bits, readings and frame
+// (4 + 8 + 16 + 1) with the store's room to double as readings split off (80); while copied,
+// the rebuilt store with room to double (80) beside the references, order, tree bits, address
+// and new id (4 + 4 + 8 + 1 + 4); while laid out, less (pack_layout.cpp: 28 and the output).
+constexpr uint64_t kLaterBytesPerPack = 4 + 8 + 16 + 1 + 2 * sizeof(Pack);
+
 // The relative value of a node holding interval [lo, hi] below a path that reconstructs `parent`.
 int32_t chooseValue(const KeyInterval& interval, uint32_t parent, ValueChoice choice) {
   const int64_t lo = int64_t(interval.lo) - parent, hi = int64_t(interval.hi) - parent;
@@ -268,7 +279,7 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   return dag;
 }
 
-Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
+Encoded encode(MultiresHierarchy hierarchy, const Options& options, const ReserveMemory& reserve) {
   const std::vector<MhNode>& nodes = hierarchy.nodes;
   Statistics stats;
 
@@ -307,6 +318,7 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   std::vector<Pack> packs;
   std::vector<uint8_t> selfSymmetries;
   HashConsIndex index;
+  uint64_t nextReserve = kFirstReserve;  // before the store and the index double
   for (uint32_t n = 0; n < nodes.size(); ++n) {
     const MhNode& node = nodes[n];
     if (!node.hasChildren()) continue;
@@ -341,6 +353,11 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
       }
       pack = least;
     }
+    if (packs.size() == nextReserve) {
+      reserve(nextReserve * kFindingBytesPerPack,
+              fmt::format("delta-dag: hash-consing past {} distinct packs", nextReserve));
+      nextReserve *= 2;
+    }
     const auto [id, added] =
         options.sharing
             ? index.findOrAdd(pack.hash(), [&](uint32_t other) { return packs[other] == pack; })
@@ -360,11 +377,14 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   const Symmetry rootSymmetry = symmetryOf[root];
   values = {}, packOf = {}, symmetryOf = {};
   index = HashConsIndex();
+  const int levels = hierarchy.levels;
+  hierarchy = {};
+  reserve(packs.size() * kLaterBytesPerPack,
+          fmt::format("delta-dag: laying out {} distinct packs", packs.size()));
 
   if (rootPack == kNoPack)
-    return {
-        DeltaDag(hierarchy.levels, MhChild::Leaf, rootKey, 0, 0, {}, std::vector<uint8_t>(8, 0), 0),
-        stats};
+    return {DeltaDag(levels, MhChild::Leaf, rootKey, 0, 0, {}, std::vector<uint8_t>(8, 0), 0),
+            stats};
   if (options.sharing && options.symmetry)
     stats.packSplits = orient(packs, selfSymmetries, {rootPack, rootSymmetry});
   if (options.sharing && options.copies)
@@ -416,7 +436,7 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options) {
   stats.pointerBits = best.pointerBits, stats.symmetryBits = best.symmetryBits;
   stats.addressUnit = best.addressUnit, stats.paddingBits = best.paddingBits;
   const uint64_t bits = best.bits();
-  return {DeltaDag(hierarchy.levels, MhChild::Full, rootKey, best.rootPosition, best.addressUnit,
+  return {DeltaDag(levels, MhChild::Full, rootKey, best.rootPosition, best.addressUnit,
                    std::move(best.table), best.out.release(), bits),
           stats};
 }

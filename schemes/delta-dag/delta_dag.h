@@ -52,7 +52,9 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "schemes/delta-dag/square_symmetry.h"
@@ -436,9 +438,25 @@ struct Encoded {
   Statistics statistics;
 };
 
+// Beside the hierarchy, per node, the encode step holds the reconstructed keys and relative
+// values (8) and each inner node's pack and symmetry (4 + 1).
+inline constexpr uint64_t kEncodeBytesPerNode = 8 + 4 + 1;
+// Per distinct pack while hash-consing finds them: the pack store, the self-symmetries and the
+// index's hashes at twice their count, as they double (2 × (40 + 1 + 8)), and its slots at four
+// a pack (16). The distinct packs are known only as they are found (the forest at 16K² keeps
+// 27 % of its 7.7 M tree packs, at most one an inner node), so the encode step reserves these
+// bytes each time their count reaches a power of two (BuildContext::reserve). A merge declares
+// before it only the nodes its part files count; a whole build, whose nodes are known only at
+// their floor before it, declares these bytes per node as well.
+inline constexpr uint64_t kFindingBytesPerPack = 2 * (40 + 1 + 8) + 16;
+// Asked before memory is taken: `bytes` more than held now, `what` for the error.
+using ReserveMemory = std::function<void(uint64_t bytes, std::string_view what)>;
+
 // The encode step from the hierarchy (HierarchyEncode's work): values chosen top-down, packs
 // hash-consed bottom-up, laid out as private trees.
-Encoded encode(MultiresHierarchy hierarchy, const Options& options);
+Encoded encode(
+    MultiresHierarchy hierarchy, const Options& options,
+    const ReserveMemory& reserve = [](uint64_t, std::string_view) {});
 
 class Decoder final : public DepthDecoder<Decoder> {
  public:

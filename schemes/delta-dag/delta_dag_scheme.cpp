@@ -22,7 +22,9 @@ Options optionsOf(const ParamValues& params) {
 std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Options& options,
                                         BuildContext& context) {
   context.phase("encode");
-  delta_dag::Encoded encoded = delta_dag::encode(std::move(hierarchy), options);
+  delta_dag::Encoded encoded = delta_dag::encode(
+      std::move(hierarchy), options,
+      [&](uint64_t bytes, std::string_view what) { context.reserve(bytes, what); });
   const delta_dag::Statistics& s = encoded.statistics;
   context.count("valued nodes", s.valuedNodes);
   context.count("tree packs", s.treePacks);
@@ -42,14 +44,6 @@ std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Optio
   context.count("skip squares answered above", encoded.dag.skipSquaresAnsweredAbove());
   return std::make_unique<delta_dag::Decoder>(std::move(encoded.dag));
 }
-
-// Per node of the hierarchy, what the encode step holds beside it: the reconstructed keys and
-// relative values (8), each inner node's pack and symmetry (4 + 1); per pack at most one per node:
-// the pack and, while small shared packs are copied, its copy (40 + 40), its hash and slot (8 + 8,
-// until the packs are found), its self-symmetries (1), its references (4), and its estimated tree
-// bits, address width, order and new id while copying (8 + 1 + 4 + 4), or its position, the bits
-// of its private tree and the table format it uses while laid out (8 + 8 + 4).
-constexpr uint64_t kEncodeBytesPerNode = 13 + 80 + 16 + 1 + 4 + 20;
 
 SchemeInfo deltaDag() {
   SchemeInfo info;
@@ -99,9 +93,10 @@ SchemeInfo deltaDag() {
                      },
                      [](const MapInfo& map) {
                        return MhBuilder::hierarchyFloorBytes(map) / sizeof(MhNode) *
-                              (sizeof(MhNode) + kEncodeBytesPerNode);
+                              (sizeof(MhNode) + delta_dag::kEncodeBytesPerNode +
+                               delta_dag::kFindingBytesPerPack);
                      },
-                     {{}, sizeof(MhNode) + kEncodeBytesPerNode, 0}});
+                     {{}, sizeof(MhNode) + delta_dag::kEncodeBytesPerNode, 0}});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<delta_dag::Decoder>(delta_dag::DeltaDag::load(in, map));

@@ -7,9 +7,11 @@
 #include <map>
 #include <tuple>
 
+#include <fmt/format.h>
 #include <catch2/catch.hpp>
 
 #include "schemes/delta-dag/delta_dag.h"
+#include "schemes/delta-dag/pack_layout.h"
 #include "schemes/interface/splitmix.h"
 #include "tests/support/hierarchy_map.h"
 
@@ -244,6 +246,35 @@ TEST_CASE("a uniform map is one leaf root", "[delta-dag]") {
   CHECK(encoded.dag.bits() == 0);
   // The simplest key in [0.25, 0.75] is 0.5's: the only key of the interval with 24 trailing zeros.
   CHECK(encoded.dag.texelKey(7, 9) == std::bit_cast<uint32_t>(0.5f));
+}
+
+TEST_CASE("the encode step reserves memory as it finds packs, and stops where refused",
+          "[delta-dag]") {
+  // A random 2K² map keeps more than 2^17 distinct packs: reserved before the store doubles at
+  // each power of two from 2^16 on, then once for the layout of all of them.
+  const SyntheticMap map = SyntheticMap::random(2048, DepthMode::Closed, 3);
+  std::vector<std::pair<uint64_t, std::string>> asked;
+  const delta_dag::Encoded encoded = delta_dag::encode(
+      hierarchyOf(map, 16), {},
+      [&](uint64_t bytes, std::string_view what) { asked.emplace_back(bytes, what); });
+  const uint64_t packs = encoded.statistics.dagPacks;
+  REQUIRE(packs > (1u << 17));
+  std::vector<std::string> expected;
+  for (uint64_t count = 1u << 16; count < packs; count *= 2)
+    expected.push_back(fmt::format("delta-dag: hash-consing past {} distinct packs", count));
+  expected.push_back(fmt::format("delta-dag: laying out {} distinct packs", packs));
+  REQUIRE(asked.size() == expected.size());
+  for (size_t call = 0; call < asked.size(); ++call) CHECK(asked[call].second == expected[call]);
+  // Every byte the pack store takes is among those reserved: 40 a pack, twice over as it doubles.
+  CHECK(asked[0].first >= (1u << 16) * 2 * sizeof(delta_dag::Pack));
+  CHECK(asked[1].first == 2 * asked[0].first);
+  CHECK(asked.back().first >= packs * 2 * sizeof(delta_dag::Pack));
+  // A refusal ends the encode step with its message, before the memory is taken.
+  CHECK_THROWS_WITH(delta_dag::encode(hierarchyOf(map, 16), {},
+                                      [](uint64_t, std::string_view what) {
+                                        throw std::runtime_error(std::string(what));
+                                      }),
+                    expected.front());
 }
 
 TEST_CASE("repeated subtrees are stored once, and simplest values find more of them",
