@@ -50,7 +50,8 @@ TEST_CASE("a merge declares at least what its part files hold, and more for more
   // and dag-mh merge without the whole hierarchy and hold their structure, at most 8 and 5
   // bytes for a 13-byte node.)
   constexpr uint64_t kPartFiles = uint64_t(1) << 30;
-  for (const char* name : {"mh", "mmh", "dag-mh", "compressed-sm", "cpvs", "cpvs-fast"}) {
+  for (const char* name :
+       {"mh", "mmh", "dag-mh", "delta-dag", "compressed-sm", "cpvs", "cpvs-fast"}) {
     const SchemeInfo& scheme = findScheme(name);
     INFO(name);
     const MapInfo map = mapFor(scheme, DepthMode::Closed, 65536);
@@ -64,6 +65,26 @@ TEST_CASE("a merge declares at least what its part files hold, and more for more
                                                           : kPartFiles;
     CHECK(merge(kPartFiles) >= held);
     CHECK(merge(4 * kPartFiles) > merge(kPartFiles));
+  }
+}
+
+TEST_CASE(
+    "a merge declared from the nodes' floor counts per node what its scheme reserves during it",
+    "[build][parts]") {
+  // Before the part files exist a merge is declared from the floor: at 64K², 256 nodes a texel
+  // row (mh_parts.h), the largest part of 16K² a node per 64 texels. Part files that count as
+  // many nodes give mmh, which reserves nothing, the same declaration; delta-dag reserves its
+  // distinct packs as it finds them, so from counted nodes it declares less (114 bytes a node).
+  constexpr uint64_t kFloorNodes = uint64_t(65536) * 256, kPartFloorNodes = 16384 * 16384 / 64;
+  for (const char* name : {"mmh", "delta-dag"}) {
+    const SchemeInfo& scheme = findScheme(name);
+    INFO(name);
+    const MapInfo map = mapFor(scheme, DepthMode::Closed, 65536);
+    BuildShape shape{512, 16384, BuildShape::Step::Merge};
+    const uint64_t floor = scheme.buildBytes(map, scheme.resolve({}), shape);
+    shape.partFiles = {kFloorNodes * 13, kPartFloorNodes * 13};
+    const uint64_t counted = scheme.buildBytes(map, scheme.resolve({}), shape);
+    CHECK(floor - counted == (std::string(name) == "mmh" ? 0 : kFloorNodes * 114));
   }
 }
 

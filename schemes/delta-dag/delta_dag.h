@@ -446,8 +446,8 @@ inline constexpr uint64_t kEncodeBytesPerNode = 8 + 4 + 1;
 // a pack (16). The distinct packs are known only as they are found (the forest at 16K² keeps
 // 27 % of its 7.7 M tree packs, at most one an inner node), so the encode step reserves these
 // bytes each time their count reaches a power of two (BuildContext::reserve). A merge declares
-// before it only the nodes its part files count; a whole build, whose nodes are known only at
-// their floor before it, declares these bytes per node as well.
+// before it only the nodes its part files count; a declaration from the nodes' floor (a whole
+// build, or a merge before its part files exist) counts these bytes per node as well.
 inline constexpr uint64_t kFindingBytesPerPack = 2 * (40 + 1 + 8) + 16;
 // Asked before memory is taken: `bytes` more than held now, `what` for the error.
 using ReserveMemory = std::function<void(uint64_t bytes, std::string_view what)>;

@@ -85,18 +85,18 @@ SchemeInfo deltaDag() {
                         "the fewest bits, each shared subtree padded to start on one; bit counts "
                         "them in bits",
                         "cheapest", {"cheapest", "bit"}, {"cheapest", "bit"})};
-  setMhBuilds(info, {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
-                       return [options = optionsOf(params)](MultiresHierarchy hierarchy,
-                                                            BuildContext& context) {
-                         return encodeDeltaDag(std::move(hierarchy), options, context);
-                       };
-                     },
-                     [](const MapInfo& map) {
-                       return MhBuilder::hierarchyFloorBytes(map) / sizeof(MhNode) *
-                              (sizeof(MhNode) + delta_dag::kEncodeBytesPerNode +
-                               delta_dag::kFindingBytesPerPack);
-                     },
-                     {{}, sizeof(MhNode) + delta_dag::kEncodeBytesPerNode, 0}});
+  setMhBuilds(
+      info,
+      {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
+         return [options = optionsOf(params)](MultiresHierarchy hierarchy, BuildContext& context) {
+           return encodeDeltaDag(std::move(hierarchy), options, context);
+         };
+       },
+       [](const MapInfo& map) {
+         return MhBuilder::hierarchyFloorBytes(map) / sizeof(MhNode) *
+                (sizeof(MhNode) + delta_dag::kEncodeBytesPerNode + delta_dag::kFindingBytesPerPack);
+       },
+       {{}, sizeof(MhNode) + delta_dag::kEncodeBytesPerNode, 0, delta_dag::kFindingBytesPerPack}});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<delta_dag::Decoder>(delta_dag::DeltaDag::load(in, map));

@@ -350,11 +350,12 @@ void setMhBuilds(SchemeInfo& info, MhEncoding encoding) {
     // (kMhPartNodeBytes each) and a header.
     const BuildShape::PartFiles& files = shape.partFiles;
     const uint64_t partPerNode = kPartNodeBytes + merging.partBytesPerNode;
-    const uint64_t merge = files.totalBytes
-                               ? files.totalBytes / kMhPartNodeBytes * merging.bytesPerNode +
-                                     files.largestBytes / kMhPartNodeBytes * partPerNode
-                               : nodesAtFloor(map.resolution) * merging.bytesPerNode +
-                                     nodesAtFloor(shape.partSize) * partPerNode;
+    const uint64_t merge =
+        files.totalBytes
+            ? files.totalBytes / kMhPartNodeBytes * merging.bytesPerNode +
+                  files.largestBytes / kMhPartNodeBytes * partPerNode
+            : nodesAtFloor(map.resolution) * (merging.bytesPerNode + merging.reservedBytesPerNode) +
+                  nodesAtFloor(shape.partSize) * partPerNode;
     return shape.partsBytes(encoder, merge);
   };
   const auto encodeFor = encoding.encodeFor;

@@ -48,6 +48,9 @@ struct MhEncoding {
                                               uint32_t partSize)>
         makeMerger;
     uint64_t bytesPerNode = 0, partBytesPerNode = 0;
+    // What the encode step reserves during the merge (BuildContext::reserve), assumed per node
+    // where the nodes are known only at their floor (before the part files exist).
+    uint64_t reservedBytesPerNode = 0;
   } merge;
 };
 
