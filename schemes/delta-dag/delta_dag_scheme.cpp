@@ -45,6 +45,11 @@ std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Optio
   return std::make_unique<delta_dag::Decoder>(std::move(encoded.dag));
 }
 
+// Declared per node: the hierarchy and the encode step's per-node arrays. The distinct packs are
+// reserved during the encode step, and counted per node only where the nodes are known at their
+// floor alone (delta_dag.h).
+constexpr uint64_t kHeldBytesPerNode = sizeof(MhNode) + delta_dag::kEncodeBytesPerNode;
+
 SchemeInfo deltaDag() {
   SchemeInfo info;
   info.name = "delta-dag";
@@ -85,18 +90,17 @@ SchemeInfo deltaDag() {
                         "the fewest bits, each shared subtree padded to start on one; bit counts "
                         "them in bits",
                         "cheapest", {"cheapest", "bit"}, {"cheapest", "bit"})};
-  setMhBuilds(
-      info,
-      {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
-         return [options = optionsOf(params)](MultiresHierarchy hierarchy, BuildContext& context) {
-           return encodeDeltaDag(std::move(hierarchy), options, context);
-         };
-       },
-       [](const MapInfo& map) {
-         return MhBuilder::hierarchyFloorBytes(map) / sizeof(MhNode) *
-                (sizeof(MhNode) + delta_dag::kEncodeBytesPerNode + delta_dag::kFindingBytesPerPack);
-       },
-       {{}, sizeof(MhNode) + delta_dag::kEncodeBytesPerNode, 0, delta_dag::kFindingBytesPerPack}});
+  setMhBuilds(info, {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
+                       return [options = optionsOf(params)](MultiresHierarchy hierarchy,
+                                                            BuildContext& context) {
+                         return encodeDeltaDag(std::move(hierarchy), options, context);
+                       };
+                     },
+                     [](const MapInfo& map) {
+                       return MhBuilder::hierarchyFloorBytes(map) / sizeof(MhNode) *
+                              (kHeldBytesPerNode + delta_dag::kFindingBytesPerPack);
+                     },
+                     {{}, kHeldBytesPerNode, 0, delta_dag::kFindingBytesPerPack}});
   info.load = [](ByteReader& in, const MapInfo& map,
                  const ParamValues&) -> std::unique_ptr<Decoder> {
     return std::make_unique<delta_dag::Decoder>(delta_dag::DeltaDag::load(in, map));
