@@ -73,7 +73,7 @@ DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t root
     codeMask_ = (uint64_t(1) << longest) - 1;
     decode_ = decodeTable(table_.lengths, longest);
   }
-  if (validated) buildSkipTable();
+  if (validated) buildLookupTables();
 }
 
 int DeltaDag::skipLevelFor(uint64_t packBits, int levels) {
@@ -102,6 +102,55 @@ void DeltaDag::buildSkipTable() {
     }
 }
 
+void DeltaDag::buildKeyRanges() {
+  keyRangeLevel_ = std::max(skipLevel_ - 1, 0);
+  const uint32_t side = uint32_t(1) << keyRangeLevel_, skipSide = uint32_t(1) << skipLevel_;
+  const int coarser = skipLevel_ - keyRangeLevel_;
+  keyRanges_.assign(size_t(side) * side, {UINT32_MAX, 0});
+  std::unordered_map<uint64_t, KeyOffsets> known;
+  for (uint32_t y = 0; y < skipSide; ++y)
+    for (uint32_t x = 0; x < skipSide; ++x) {
+      const Walk walk = skipEntryWalk(&skip_[(size_t(y) * skipSide + x) * skipEntryWords_],
+                                      skipEntryWords_, skipLevel_);
+      KeyOffsets keys{walk.key, walk.key};
+      if (walk.kind != MhChild::Leaf) {
+        const KeyOffsets offsets = packKeyOffsets(walk.position, true, known);
+        keys.first += offsets.first, keys.second += offsets.second;
+      }
+      KeyRange& range = keyRanges_[(size_t(y >> coarser) << keyRangeLevel_) + (x >> coarser)];
+      if (keys.first < 0 || keys.second > kInfinityKey) keys = {0, UINT32_MAX};
+      range.least = std::min(range.least, uint32_t(keys.first));
+      range.greatest = std::max(range.greatest, uint32_t(keys.second));
+    }
+}
+
+DeltaDag::KeyOffsets DeltaDag::packKeyOffsets(
+    uint64_t position, bool remember, std::unordered_map<uint64_t, KeyOffsets>& known) const {
+  if (remember)
+    if (const auto found = known.find(position); found != known.end()) return found->second;
+  const PackFormat f = format(read64(position));
+  KeyOffsets offsets{INT64_MAX, INT64_MIN};
+  for (int k = 0; k < kMhChildren; ++k) {
+    const MhChild kind = MhChild(childFlag(f.flags, k));
+    const uint64_t at = position + f.fieldAt[k];
+    // A step adds the value shifted, wrapping: between two depths' keys that is their difference.
+    const int64_t value =
+        hasValue(kind) ? int32_t(uint32_t(readSigned(at, f.valueBits)) << f.shift) : 0;
+    KeyOffsets below{0, 0};  // a missing child's square, or a leaf
+    if (isInner(uint32_t(kind))) {
+      const uint64_t pointer =
+          readUnsigned(at + (hasValue(kind) ? f.valueBits : 0), f.pointerWidth[k]);
+      const bool shared = f.sharedMask >> k & 1;
+      below = packKeyOffsets(shared ? pointer << addressUnit_ : position + f.bits + pointer, shared,
+                             known);
+    }
+    offsets.first = std::min(offsets.first, value + below.first);
+    offsets.second = std::max(offsets.second, value + below.second);
+  }
+  if (remember) known.emplace(position, offsets);
+  return offsets;
+}
+
 uint64_t DeltaDag::skipSquaresAnsweredAbove() const {
   uint64_t answered = 0;
   for (size_t entry = 0; entry < skip_.size(); entry += skipEntryWords_)
@@ -125,7 +174,8 @@ SizeBreakdown DeltaDag::size() const {
           {"pack formats", formats_.size() * sizeof(FormatEntry) + 1},
           {"packs", (bits_ + 7) / 8},
           {"format decode table", decode_.size() * sizeof(uint16_t)},
-          {"skip table", skip_.size() * sizeof(uint32_t)}};
+          {"skip table", skip_.size() * sizeof(uint32_t)},
+          {"key ranges", keyRanges_.size() * sizeof(KeyRange)}};
 }
 
 void DeltaDag::save(ByteWriter& out) const {
@@ -181,7 +231,7 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   if (rootKind == MhChild::Full && levels == 0)
     throw FormatError("delta-dag: a 1² map's root has no children");
   const uint32_t rootKey = in.get<uint32_t>("root key");
-  if (rootKey > 0x7f800000u)
+  if (rootKey > kInfinityKey)
     throw FormatError(fmt::format("delta-dag: root key {:#x} is not a depth", rootKey));
   const uint64_t rootPosition = in.get<uint64_t>("root position");
   const uint32_t addressUnit = in.get<uint8_t>("address unit");
@@ -228,7 +278,7 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   DeltaDag dag(levels, rootKind, rootKey, rootPosition, addressUnit, std::move(table),
                std::move(bytes), bits, false);
   if (rootKind == MhChild::Leaf) {
-    dag.buildSkipTable();
+    dag.buildLookupTables();
     return dag;
   }
 
@@ -275,7 +325,7 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     return below + 1;
   };
   height(height, rootPosition, levels);
-  dag.buildSkipTable();
+  dag.buildLookupTables();
   return dag;
 }
 

@@ -2,7 +2,9 @@
 // texel's key inside its interval on seeded maps, sharing on maps built to repeat, and the
 // structure read back from its bytes answering as built. (The correctness matrix and the
 // interface tests check it like every scheme; these pin what is its own.)
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <tuple>
@@ -236,6 +238,48 @@ TEST_CASE("a kernel walk gives every texel of its rectangle its point walk's key
       INFO("seed " << seed << ", rect " << rect.i0 << ", " << rect.j0 << " to " << rect.i1 << ", "
                    << rect.j1);
       REQUIRE(kernelWalkMatchesPointWalks(dag, rect));
+    }
+  }
+}
+
+// Each key-range square holds the least and greatest of its texels' keys, and a kernel that the
+// ranges settle counts the texels its point walks light: z at a range's ends (settled) and a float
+// inside them (walked), on maps whose ranges lie at level 3.
+TEST_CASE("key ranges bound their squares' keys and settle kernels exactly", "[delta-dag]") {
+  uint64_t state = 17;
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    const SyntheticMap map = SyntheticMap::random(256, DepthMode::Closed, seed);
+    const MapInfo info = map.info(SchemeKind::Depth);
+    const DeltaDag dag = roundTrip(delta_dag::encode(hierarchyOf(map, 16), {}).dag, info);
+    REQUIRE(dag.keyRangeLevel() == dag.skipLevel() - 1);
+    const uint32_t side = 256 >> dag.keyRangeLevel();
+    for (uint32_t y = 0; y < 256; y += side)
+      for (uint32_t x = 0; x < 256; x += side) {
+        uint32_t least = UINT32_MAX, greatest = 0;
+        for (uint32_t j = y; j < y + side; ++j)
+          for (uint32_t i = x; i < x + side; ++i)
+            least = std::min(least, dag.texelKey(i, j)),
+            greatest = std::max(greatest, dag.texelKey(i, j));
+        const DeltaDag::KeyRange range = dag.keyRange(x, y);
+        INFO("seed " << seed << ", square at " << x << ", " << y);
+        CHECK(range.known());
+        CHECK(range.least == least);
+        CHECK(range.greatest == greatest);
+      }
+    const delta_dag::Decoder decoder(dag);
+    for (int trial = 0; trial < 200; ++trial) {
+      const TexelRect rect = randomRect(state, 256, 12);
+      const DeltaDag::KeyRange range = dag.keyRange(rect.i0, rect.j0);
+      const float least = depthOfKey(range.least), greatest = depthOfKey(range.greatest);
+      for (const float z : {least, std::nextafter(least, 2.0f), std::nextafter(greatest, 0.0f),
+                            greatest, std::nextafter(greatest, kInf)}) {
+        uint64_t lit = 0;
+        for (uint32_t j = rect.j0; j <= rect.j1; ++j)
+          for (uint32_t i = rect.i0; i <= rect.i1; ++i) lit += z <= depthOfKey(dag.texelKey(i, j));
+        INFO("seed " << seed << ", rect " << rect.i0 << ", " << rect.j0 << " to " << rect.i1 << ", "
+                     << rect.j1 << ", z " << z);
+        REQUIRE(decoder.litTexels(rect, z) == lit);
+      }
     }
   }
 }
