@@ -436,9 +436,10 @@ class DeltaDag {
   void buildSkipTable();
   // Each square's key range at the level above the skip table's, from each skip entry's key and
   // its pack's offsets (packKeyOffsets): 1/4 of the skip table's squares, 8 bytes each, at most a
-  // quarter of its bytes. Uniform 9×9 kernels at 16K² (a probe not kept, one run each) took about
-  // as long with ranges at the skip level, one level above or two on the city (40–51 ns, 300–400
-  // without), 55 ns one level above and 91 ns two on the tangle.
+  // quarter of its bytes. Uniform 9×9 kernels at 16K² took about as long with ranges two levels
+  // above, one above or at the skip level (scripts/ablations/delta-dag-kernel-ranges.sh: the city
+  // 58, 47, 45 ns, 300–400 without; the forest 474, 358, 433), and finer ranges cost 16–64× the
+  // bytes and leave view kernels over 3× the point lookup (delta-dag README, "At cdd3b1f").
   void buildKeyRanges();
   // The least and greatest sum of the deltas from the key a walk enters the pack at `position`
   // with down to each of its texels (a symmetry only moves them). Each pack's is found once:
