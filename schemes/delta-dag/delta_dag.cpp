@@ -9,6 +9,7 @@
 #include "schemes/delta-dag/pack_dag.h"
 #include "schemes/delta-dag/pack_layout.h"
 #include "schemes/delta-dag/prefix_code.h"
+#include "schemes/interface/splitmix.h"
 #include "schemes/shared/hash_cons.h"
 
 namespace sb::delta_dag {
@@ -107,7 +108,7 @@ void DeltaDag::buildKeyRanges() {
   const uint32_t side = uint32_t(1) << keyRangeLevel_, skipSide = uint32_t(1) << skipLevel_;
   const int coarser = skipLevel_ - keyRangeLevel_;
   keyRanges_.assign(size_t(side) * side, {UINT32_MAX, 0});
-  std::unordered_map<uint64_t, KeyOffsets> known;
+  KnownOffsets known;
   for (uint32_t y = 0; y < skipSide; ++y)
     for (uint32_t x = 0; x < skipSide; ++x) {
       const Walk walk = skipEntryWalk(&skip_[(size_t(y) * skipSide + x) * skipEntryWords_],
@@ -124,10 +125,16 @@ void DeltaDag::buildKeyRanges() {
     }
 }
 
-DeltaDag::KeyOffsets DeltaDag::packKeyOffsets(
-    uint64_t position, bool remember, std::unordered_map<uint64_t, KeyOffsets>& known) const {
-  if (remember)
-    if (const auto found = known.find(position); found != known.end()) return found->second;
+DeltaDag::KeyOffsets DeltaDag::packKeyOffsets(uint64_t position, bool remember,
+                                              KnownOffsets& known) const {
+  uint32_t id = 0;
+  if (remember) {
+    const auto [found, added] = known.index.findOrAdd(
+        mixBits(position), [&](uint32_t other) { return known.positions[other] == position; });
+    if (!added) return known.offsets[found];
+    // Filled in below, before anything reads it: no pack lies below itself.
+    id = found, known.positions.push_back(position), known.offsets.emplace_back();
+  }
   const PackFormat f = format(read64(position));
   KeyOffsets offsets{INT64_MAX, INT64_MIN};
   for (int k = 0; k < kMhChildren; ++k) {
@@ -147,7 +154,7 @@ DeltaDag::KeyOffsets DeltaDag::packKeyOffsets(
     offsets.first = std::min(offsets.first, value + below.first);
     offsets.second = std::max(offsets.second, value + below.second);
   }
-  if (remember) known.emplace(position, offsets);
+  if (remember) known.offsets[id] = offsets;
   return offsets;
 }
 

@@ -55,13 +55,13 @@
 #include <functional>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
 #include "schemes/delta-dag/square_symmetry.h"
 #include "schemes/interface/depth_decoder.h"
 #include "schemes/interface/serial.h"
+#include "schemes/shared/hash_cons.h"
 #include "schemes/shared/multires_hierarchy.h"
 
 namespace sb::delta_dag {
@@ -443,10 +443,14 @@ class DeltaDag {
   void buildKeyRanges();
   // The least and greatest sum of the deltas from the key a walk enters the pack at `position`
   // with down to each of its texels (a symmetry only moves them). Each pack's is found once:
-  // `known` keeps those of shared packs and of the packs `remember` names.
+  // `known` keeps those of shared packs and of the packs `remember` names, by position.
   using KeyOffsets = std::pair<int64_t, int64_t>;
-  KeyOffsets packKeyOffsets(uint64_t position, bool remember,
-                            std::unordered_map<uint64_t, KeyOffsets>& known) const;
+  struct KnownOffsets {
+    HashConsIndex index;
+    std::vector<uint64_t> positions;  // id → the pack's position
+    std::vector<KeyOffsets> offsets;  // id → its offsets
+  };
+  KeyOffsets packKeyOffsets(uint64_t position, bool remember, KnownOffsets& known) const;
 
   int levels_ = 0;
   int skipLevel_ = 0;
