@@ -104,9 +104,8 @@ void DeltaDag::buildSkipTable() {
 }
 
 void DeltaDag::buildKeyRanges() {
-  keyRangeLevel_ = std::max(skipLevel_ - 1, 0);
-  const uint32_t side = uint32_t(1) << keyRangeLevel_, skipSide = uint32_t(1) << skipLevel_;
-  const int coarser = skipLevel_ - keyRangeLevel_;
+  const int level = keyRangeLevel(), coarser = skipLevel_ - level;
+  const uint32_t side = uint32_t(1) << level, skipSide = uint32_t(1) << skipLevel_;
   keyRanges_.assign(size_t(side) * side, {UINT32_MAX, 0});
   KnownOffsets known;
   for (uint32_t y = 0; y < skipSide; ++y)
@@ -118,7 +117,7 @@ void DeltaDag::buildKeyRanges() {
         const KeyOffsets offsets = packKeyOffsets(walk.position, true, known);
         keys.first += offsets.first, keys.second += offsets.second;
       }
-      KeyRange& range = keyRanges_[(size_t(y >> coarser) << keyRangeLevel_) + (x >> coarser)];
+      KeyRange& range = keyRanges_[(size_t(y >> coarser) << level) + (x >> coarser)];
       if (keys.first < 0 || keys.second > kInfinityKey) keys = {0, UINT32_MAX};
       range.least = std::min(range.least, uint32_t(keys.first));
       range.greatest = std::max(range.greatest, uint32_t(keys.second));

@@ -278,10 +278,11 @@ class DeltaDag {
     bool known() const { return greatest <= kInfinityKey; }
   };
   KeyRange keyRange(uint32_t i, uint32_t j) const {
-    const uint32_t shift = uint32_t(levels_ - keyRangeLevel_);
-    return keyRanges_[(size_t(j >> shift) << keyRangeLevel_) + (i >> shift)];
+    const int level = keyRangeLevel();
+    const uint32_t shift = uint32_t(levels_ - level);
+    return keyRanges_[(size_t(j >> shift) << level) + (i >> shift)];
   }
-  int keyRangeLevel() const { return keyRangeLevel_; }
+  int keyRangeLevel() const { return std::max(skipLevel_ - 1, 0); }
 
   // The keys of the texels of `rect` in one walk (issue 13): down to the lowest node holding the
   // whole rectangle, then into each child it overlaps; a missing child or a leaf gives its whole
@@ -455,8 +456,7 @@ class DeltaDag {
   int levels_ = 0;
   int skipLevel_ = 0;
   uint32_t skipEntryWords_ = 2;
-  std::vector<uint32_t> skip_;  // skipEntryWords_ words a square
-  int keyRangeLevel_ = 0;
+  std::vector<uint32_t> skip_;        // skipEntryWords_ words a square
   std::vector<KeyRange> keyRanges_;   // row by row
   MhChild rootKind_ = MhChild::Leaf;  // Leaf (one key for the map) or Full (a pack below)
   uint32_t rootKey_ = 0;
