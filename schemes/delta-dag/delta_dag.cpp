@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <unordered_map>
 
 #include "schemes/delta-dag/pack_dag.h"
 #include "schemes/delta-dag/pack_layout.h"
@@ -288,17 +287,34 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     return dag;
   }
 
-  // Each pack's height (levels of packs from it down, itself included) once: a pack reached at
-  // level l needs height ≤ levels − l. The budget bounds the recursion by the levels, however
-  // the pointers chain.
-  std::unordered_map<uint64_t, int> heights;
+  // Each pack's height (levels of packs from it down, itself included): a pack reached at level l
+  // needs height ≤ levels − l. The budget bounds the recursion by the levels, however the pointers
+  // chain. A shared pack's height is found once and kept. A private pack is its parent's alone, so
+  // a structure as written reaches each once for each visit of its owner, at most one pack a bit
+  // of the packs: reaching more means pointers crafted to reach a pack twice, whose paths multiply
+  // with the levels (four children on one pack, 4^levels walks here and when the key ranges are
+  // found), and it is refused. Keeping only the shared packs' heights keeps the memo small: the
+  // forest at 256K² stores 31.5 M packs, 1.7 M of them shared.
+  HashConsIndex sharedIndex;
+  std::vector<uint64_t> sharedPositions;
+  std::vector<uint8_t> sharedHeights;  // kUnknownHeight while its packs below are visited
+  constexpr uint8_t kUnknownHeight = UINT8_MAX;
+  uint64_t privateVisits = 0;
   const auto fail = [](uint64_t position, const std::string& what) {
     return FormatError(fmt::format("delta-dag: the pack at bit {} {}", position, what));
   };
-  const auto height = [&](auto& self, uint64_t position, int budget) -> int {
-    if (const auto found = heights.find(position); found != heights.end()) {
-      if (found->second > budget) throw fail(position, "lies below the texel level");
-      return found->second;
+  const auto height = [&](auto& self, uint64_t position, bool shared, int budget) -> int {
+    uint32_t id = 0;
+    if (shared) {
+      const auto [found, added] = sharedIndex.findOrAdd(
+          mixBits(position), [&](uint32_t other) { return sharedPositions[other] == position; });
+      // A pack below itself is still kUnknownHeight, above every budget.
+      if (!added && sharedHeights[found] > budget)
+        throw fail(position, "lies below the texel level");
+      if (!added) return sharedHeights[found];
+      id = found, sharedPositions.push_back(position), sharedHeights.push_back(kUnknownHeight);
+    } else if (++privateVisits > bits) {
+      throw fail(position, "is reached by more paths than a structure of its bits holds packs");
     }
     if (budget < 1) throw fail(position, "lies below the texel level");
     if (position >= bits) throw fail(position, "lies outside the packs");
@@ -323,14 +339,14 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
       const uint64_t pointer =
           dag.readUnsigned(at + (hasValue(kind) ? f.valueBits : 0), f.pointerWidth[k]);
       // Children may lie anywhere: the budget stops a cycle.
-      const uint64_t target =
-          f.sharedMask >> k & 1 ? pointer << addressUnit : position + f.bits + pointer;
-      below = std::max(below, self(self, target, budget - 1));
+      const bool sharedChild = f.sharedMask >> k & 1;
+      const uint64_t target = sharedChild ? pointer << addressUnit : position + f.bits + pointer;
+      below = std::max(below, self(self, target, sharedChild, budget - 1));
     }
-    heights.emplace(position, below + 1);
+    if (shared) sharedHeights[id] = uint8_t(below + 1);
     return below + 1;
   };
-  height(height, rootPosition, levels);
+  height(height, rootPosition, false, levels);
   dag.buildLookupTables();
   return dag;
 }

@@ -501,5 +501,33 @@ TEST_CASE("a hand-written layout with addresses in 8-bit units reads as the READ
   CHECK_THROWS_AS(DeltaDag::load(wideIn, {4, 0, DepthMode::Closed}), FormatError);
 }
 
+// Regression: four private pointers to one pack, at every level, read alike but reach it by
+// 4^levels paths. The loader found every pack's height once, and then the key ranges walked every
+// path below the skip table's level: 4.7 s for such a chain on a 32K² map, 4× more a level. Such
+// pointers are refused; a chain of one path each, as deep, is not.
+TEST_CASE("a pack reached by more paths than the packs hold is refused", "[delta-dag]") {
+  constexpr int levels = 12;
+  const uint32_t rootKey = 0x3f000000;
+  const auto chain = [&](bool fourPaths) {
+    HandWrittenPacks packs;
+    for (int level = 0; level + 1 < levels; ++level)
+      if (fourPaths)  // four empty children: the first follows the pack, the others 0 bits after
+        packs.put(0b10101010, 8), packs.put(0, 4), packs.put(1, 6), packs.put(0, 3);
+      else  // child 0 empty, following the pack
+        packs.put(0b10, 8), packs.put(0, 4);
+    packs.put(0b11, 8), packs.put(2, 6), packs.put(0, 5), packs.put(1, 2);  // child 0 a leaf
+    return packs.payload(rootKey, 0, 0);
+  };
+  const ByteWriter onePath = chain(false);
+  ByteReader onePathIn(onePath.bytes());
+  const DeltaDag dag = DeltaDag::load(onePathIn, {uint32_t(1) << levels, 0, DepthMode::Closed});
+  CHECK(dag.texelKey(0, 0) == rootKey + 1);
+  CHECK(dag.texelKey(1, 0) == rootKey);
+  const ByteWriter fourPaths = chain(true);
+  ByteReader fourPathsIn(fourPaths.bytes());
+  CHECK_THROWS_WITH(DeltaDag::load(fourPathsIn, {uint32_t(1) << levels, 0, DepthMode::Closed}),
+                    Catch::Contains("more paths"));
+}
+
 }  // namespace
 }  // namespace sb
