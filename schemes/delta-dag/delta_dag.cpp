@@ -8,7 +8,6 @@
 #include "schemes/delta-dag/pack_dag.h"
 #include "schemes/delta-dag/pack_layout.h"
 #include "schemes/delta-dag/prefix_code.h"
-#include "schemes/interface/splitmix.h"
 #include "schemes/shared/hash_cons.h"
 
 namespace sb::delta_dag {
@@ -106,7 +105,7 @@ void DeltaDag::buildKeyRanges() {
   const int level = keyRangeLevel(), coarser = skipLevel_ - level;
   const uint32_t side = uint32_t(1) << level, skipSide = uint32_t(1) << skipLevel_;
   keyRanges_.assign(size_t(side) * side, {UINT32_MAX, 0});
-  KnownOffsets known;
+  PackMemo<KeyOffsets> known;
   for (uint32_t y = 0; y < skipSide; ++y)
     for (uint32_t x = 0; x < skipSide; ++x) {
       const Walk walk = skipEntryWalk(&skip_[(size_t(y) * skipSide + x) * skipEntryWords_],
@@ -124,14 +123,13 @@ void DeltaDag::buildKeyRanges() {
 }
 
 DeltaDag::KeyOffsets DeltaDag::packKeyOffsets(uint64_t position, bool remember,
-                                              KnownOffsets& known) const {
+                                              PackMemo<KeyOffsets>& known) const {
   uint32_t id = 0;
   if (remember) {
-    const auto [found, added] = known.index.findOrAdd(
-        mixBits(position), [&](uint32_t other) { return known.positions[other] == position; });
-    if (!added) return known.offsets[found];
     // Filled in below, before anything reads it: no pack lies below itself.
-    id = found, known.positions.push_back(position), known.offsets.emplace_back();
+    const auto [found, added] = known.findOrAdd(position, {});
+    if (!added) return known[found];
+    id = found;
   }
   const PackFormat f = format(read64(position));
   KeyOffsets offsets{INT64_MAX, INT64_MIN};
@@ -142,17 +140,12 @@ DeltaDag::KeyOffsets DeltaDag::packKeyOffsets(uint64_t position, bool remember,
     const int64_t value =
         hasValue(kind) ? int32_t(uint32_t(readSigned(at, f.valueBits)) << f.shift) : 0;
     KeyOffsets below{0, 0};  // a missing child's square, or a leaf
-    if (isInner(uint32_t(kind))) {
-      const uint64_t pointer =
-          readUnsigned(at + (hasValue(kind) ? f.valueBits : 0), f.pointerWidth[k]);
-      const bool shared = f.sharedMask >> k & 1;
-      below = packKeyOffsets(shared ? pointer << addressUnit_ : position + f.bits + pointer, shared,
-                             known);
-    }
+    if (isInner(uint32_t(kind)))
+      below = packKeyOffsets(childPack(f, position, k), f.sharedMask >> k & 1, known);
     offsets.first = std::min(offsets.first, value + below.first);
     offsets.second = std::max(offsets.second, value + below.second);
   }
-  if (remember) known.offsets[id] = offsets;
+  if (remember) known[id] = offsets;
   return offsets;
 }
 
@@ -295,9 +288,7 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   // with the levels (four children on one pack, 4^levels walks here and when the key ranges are
   // found), and it is refused. Keeping only the shared packs' heights keeps the memo small: the
   // forest at 256K² stores 31.5 M packs, 1.7 M of them shared.
-  HashConsIndex sharedIndex;
-  std::vector<uint64_t> sharedPositions;
-  std::vector<uint8_t> sharedHeights;  // kUnknownHeight while its packs below are visited
+  PackMemo<uint8_t> sharedHeights;  // kUnknownHeight while its packs below are visited
   constexpr uint8_t kUnknownHeight = UINT8_MAX;
   uint64_t privateVisits = 0;
   const auto fail = [](uint64_t position, const std::string& what) {
@@ -306,13 +297,12 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
   const auto height = [&](auto& self, uint64_t position, bool shared, int budget) -> int {
     uint32_t id = 0;
     if (shared) {
-      const auto [found, added] = sharedIndex.findOrAdd(
-          mixBits(position), [&](uint32_t other) { return sharedPositions[other] == position; });
+      const auto [found, added] = sharedHeights.findOrAdd(position, kUnknownHeight);
       // A pack below itself is still kUnknownHeight, above every budget.
       if (!added && sharedHeights[found] > budget)
         throw fail(position, "lies below the texel level");
       if (!added) return sharedHeights[found];
-      id = found, sharedPositions.push_back(position), sharedHeights.push_back(kUnknownHeight);
+      id = found;
     } else if (++privateVisits > bits) {
       throw fail(position, "is reached by more paths than a structure of its bits holds packs");
     }
@@ -336,12 +326,9 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
       if (hasValue(kind) && dag.readSigned(at, f.valueBits) == 0)
         throw fail(position, "holds a value of 0");
       if (!isInner(uint32_t(kind))) continue;
-      const uint64_t pointer =
-          dag.readUnsigned(at + (hasValue(kind) ? f.valueBits : 0), f.pointerWidth[k]);
       // Children may lie anywhere: the budget stops a cycle.
-      const bool sharedChild = f.sharedMask >> k & 1;
-      const uint64_t target = sharedChild ? pointer << addressUnit : position + f.bits + pointer;
-      below = std::max(below, self(self, target, sharedChild, budget - 1));
+      below = std::max(
+          below, self(self, dag.childPack(f, position, k), f.sharedMask >> k & 1, budget - 1));
     }
     if (shared) sharedHeights[id] = uint8_t(below + 1);
     return below + 1;

@@ -61,6 +61,7 @@
 #include "schemes/delta-dag/square_symmetry.h"
 #include "schemes/interface/depth_decoder.h"
 #include "schemes/interface/serial.h"
+#include "schemes/interface/splitmix.h"
 #include "schemes/shared/hash_cons.h"
 #include "schemes/shared/multires_hierarchy.h"
 
@@ -442,16 +443,37 @@ class DeltaDag {
   // 58, 47, 45 ns, 300–400 without; the forest 474, 358, 433), and finer ranges cost 16–64× the
   // bytes and leave view kernels over 3× the point lookup (delta-dag README, "At cdd3b1f").
   void buildKeyRanges();
+  // What a walk over every pack keeps of the packs it must not walk twice, by position.
+  template <class Value>
+  class PackMemo {
+   public:
+    // The id of the pack at `position` and false if kept, else a new id holding `initial` and true.
+    std::pair<uint32_t, bool> findOrAdd(uint64_t position, const Value& initial) {
+      const auto found = index_.findOrAdd(
+          mixBits(position), [&](uint32_t other) { return positions_[other] == position; });
+      if (found.second) positions_.push_back(position), values_.push_back(initial);
+      return found;
+    }
+    Value& operator[](uint32_t id) { return values_[id]; }
+
+   private:
+    HashConsIndex index_;
+    std::vector<uint64_t> positions_;  // id → the pack's position
+    std::vector<Value> values_;
+  };
   // The least and greatest sum of the deltas from the key a walk enters the pack at `position`
   // with down to each of its texels (a symmetry only moves them). Each pack's is found once:
-  // `known` keeps those of shared packs and of the packs `remember` names, by position.
+  // `known` keeps those of shared packs and of the packs `remember` names.
   using KeyOffsets = std::pair<int64_t, int64_t>;
-  struct KnownOffsets {
-    HashConsIndex index;
-    std::vector<uint64_t> positions;  // id → the pack's position
-    std::vector<KeyOffsets> offsets;  // id → its offsets
-  };
-  KeyOffsets packKeyOffsets(uint64_t position, bool remember, KnownOffsets& known) const;
+  KeyOffsets packKeyOffsets(uint64_t position, bool remember, PackMemo<KeyOffsets>& known) const;
+  // Where the pack of inner child k of the pack at `position` lies: a shared child's address, or
+  // its distance after the pack's end.
+  uint64_t childPack(const PackFormat& f, uint64_t position, int k) const {
+    const uint64_t at =
+        position + f.fieldAt[k] + (hasValue(MhChild(childFlag(f.flags, k))) ? f.valueBits : 0);
+    const uint64_t pointer = readUnsigned(at, f.pointerWidth[k]);
+    return f.sharedMask >> k & 1 ? pointer << addressUnit_ : position + f.bits + pointer;
+  }
 
   int levels_ = 0;
   int skipLevel_ = 0;
