@@ -135,10 +135,8 @@ DeltaDag::KeyOffsets DeltaDag::packKeyOffsets(uint64_t position, bool remember,
   KeyOffsets offsets{INT64_MAX, INT64_MIN};
   for (int k = 0; k < kMhChildren; ++k) {
     const MhChild kind = MhChild(childFlag(f.flags, k));
-    const uint64_t at = position + f.fieldAt[k];
     // A step adds the value shifted, wrapping: between two depths' keys that is their difference.
-    const int64_t value =
-        hasValue(kind) ? int32_t(uint32_t(readSigned(at, f.valueBits)) << f.shift) : 0;
+    const int64_t value = childValue(f, position, uint32_t(k));
     KeyOffsets below{0, 0};  // a missing child's square, or a leaf
     if (isInner(uint32_t(kind)))
       below = packKeyOffsets(childPack(f, position, k), f.sharedMask >> k & 1, known);
@@ -159,16 +157,17 @@ uint64_t DeltaDag::skipSquaresAnsweredAbove() const {
 uint32_t PackFormat::explicitBits() const {
   const PackShape& shape = packShape(flags);
   return 8 + (shape.hasValues ? 11 : 0) +
+         (shape.predictable < kMhChildren ? 1 + (residualBits ? 4 : 0) : 0) +
          (shape.hasInner
               ? 4 + (hasPointerWidth() ? 6 : 0) + (sharedMask ? 1 + (symmetryMask ? 4 : 0) + 6 : 0)
               : 0);
 }
 
 SizeBreakdown DeltaDag::size() const {
-  // The root's kind, key and position, the address unit; the table with its codes' lengths, the
-  // escape's; the packs' bits (whole bytes; the padding is not part of the structure); what loading
-  // derives.
-  return {{"root", 1 + 4 + 8 + 1},
+  // The layout's version, the root's kind, key and position, the address unit; the table with its
+  // codes' lengths, the escape's; the packs' bits (whole bytes; the padding is not part of the
+  // structure); what loading derives.
+  return {{"root", 1 + 1 + 4 + 8 + 1},
           {"pack formats", formats_.size() * sizeof(FormatEntry) + 1},
           {"packs", (bits_ + 7) / 8},
           {"format decode table", decode_.size() * sizeof(uint16_t)},
@@ -177,6 +176,7 @@ SizeBreakdown DeltaDag::size() const {
 }
 
 void DeltaDag::save(ByteWriter& out) const {
+  out.put<uint8_t>(kLayoutVersion);
   out.put<uint8_t>(uint8_t(rootKind_));
   out.put<uint32_t>(rootKey_);
   out.put<uint64_t>(rootPosition_);
@@ -201,6 +201,9 @@ std::string invalidFormat(const PackFormat& f) {
           ? f.valueBits == 0 || f.valueBits > kMaxValueBits || f.valueBits + f.shift > 32
           : f.valueBits != 0 || f.shift != 0)
     return fmt::format("has {}-bit values shifted by {}", f.valueBits, f.shift);
+  if (f.residualBits != 0 && shape.predictable == kMhChildren)
+    return fmt::format("predicts a value by {}-bit residuals, but not three children hold values",
+                       f.residualBits);
   if ((f.sharedMask & ~shape.innerMask) != 0)
     return fmt::format("marks child {} shared, which is not inner",
                        std::countr_zero(uint32_t(f.sharedMask & ~shape.innerMask)));
@@ -222,6 +225,15 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     throw FormatError(
         fmt::format("delta-dag: resolution {} is not a power of two", map.resolution));
   const int levels = std::countr_zero(map.resolution);
+  // Structures saved before the version byte begin with their root's kind, 1 or 3.
+  if (const uint32_t version = in.get<uint8_t>("layout version"); version != kLayoutVersion)
+    throw FormatError(
+        fmt::format("delta-dag: the packs are of layout {}, this build reads layout {}: build the "
+                    "structure again",
+                    version == uint32_t(MhChild::Full) || version == uint32_t(MhChild::Leaf)
+                        ? "1 (before predicted values)"
+                        : std::to_string(version),
+                    kLayoutVersion));
   const auto rootKind = MhChild(in.get<uint8_t>("root kind"));
   if (rootKind != MhChild::Leaf && rootKind != MhChild::Full)
     throw FormatError(fmt::format("delta-dag: root kind {} is neither leaf (3) nor full (1)",
@@ -317,13 +329,13 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
       throw fail(position, invalid);
     if (dag.decode_[word & dag.codeMask_] >= dag.formats_.size() &&
         f.headerBits != dag.escapeBits_ + f.explicitBits())
-      throw fail(position, "is marked turned with no child turned");
+      throw fail(position,
+                 "is marked turned with no child turned, or predicted with 0-bit residuals");
     if (f.bits > bits - position) throw fail(position, "runs past the packs");
     int below = 0;
     for (int k = 0; k < kMhChildren; ++k) {
       const MhChild kind = MhChild(childFlag(f.flags, k));
-      const uint64_t at = position + f.fieldAt[k];
-      if (hasValue(kind) && dag.readSigned(at, f.valueBits) == 0)
+      if (hasValue(kind) && dag.childValue(f, position, uint32_t(k)) == 0)
         throw fail(position, "holds a value of 0");
       if (!isInner(uint32_t(kind))) continue;
       // Children may lie anywhere: the budget stops a cycle.
@@ -445,9 +457,10 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options, const Reserv
     return {DeltaDag(levels, MhChild::Leaf, rootKey, 0, 0, {}, std::vector<uint8_t>(8, 0), 0),
             stats};
   if (options.sharing && options.symmetry)
-    stats.packSplits = orient(packs, selfSymmetries, {rootPack, rootSymmetry});
+    stats.packSplits = orient(packs, selfSymmetries, {rootPack, rootSymmetry}, options.prediction);
   if (options.sharing && options.copies)
-    rootPack = copyCheapShared(packs, selfSymmetries, rootPack, stats.packCopies);
+    rootPack =
+        copyCheapShared(packs, selfSymmetries, rootPack, options.prediction, stats.packCopies);
   selfSymmetries = {};
   std::vector<uint32_t> references(packs.size(), 0);
   for (const Pack& pack : packs)
@@ -468,13 +481,16 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options, const Reserv
   // smallest.
   // Shared addresses count the unit their places in that layout (with addresses in bits) make the
   // cheapest (pack_layout.h), and every layout after it uses that unit.
-  Layout best = layOut(packs, rootPack, absolute, shared, 0, {}, LayoutPass::Count);
+  Layout best =
+      layOut(packs, rootPack, absolute, shared, 0, options.prediction, {}, LayoutPass::Count);
   if (options.addressUnits) {
     std::vector<uint32_t> sharedReferences;
     for (const uint32_t id : shared) sharedReferences.push_back(references[id]);
     const uint32_t unit =
         cheapestAddressUnit(best.sharedPositions, sharedReferences, kMaxAddressUnit);
-    if (unit != 0) best = layOut(packs, rootPack, absolute, shared, unit, {}, LayoutPass::Count);
+    if (unit != 0)
+      best = layOut(packs, rootPack, absolute, shared, unit, options.prediction, {},
+                    LayoutPass::Count);
   }
   const uint32_t unit = best.addressUnit;
   const auto keepSmaller = [&](Layout next) {
@@ -483,12 +499,14 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options, const Reserv
   const uint32_t maxBits =
       std::min<uint32_t>(kMaxCodeBits, std::bit_width(best.bits() / (64 * 16)) - 1);
   if (options.formatTable && best.bits() >= 64 * 16 * 16) {
-    keepSmaller(layOut(packs, rootPack, absolute, shared, unit,
+    keepSmaller(layOut(packs, rootPack, absolute, shared, unit, options.prediction,
                        frequentFormats(std::move(best.ownCodes), kMinFormatUses, maxBits)));
     if (!best.table.codes.empty())
-      keepSmaller(layOut(packs, rootPack, absolute, shared, unit, refitted(best, maxBits)));
+      keepSmaller(layOut(packs, rootPack, absolute, shared, unit, options.prediction,
+                         refitted(best, maxBits)));
   }
-  if (best.pass == LayoutPass::Count) best = layOut(packs, rootPack, absolute, shared, unit, {});
+  if (best.pass == LayoutPass::Count)
+    best = layOut(packs, rootPack, absolute, shared, unit, options.prediction, {});
   stats.formats = best.table.codes.size();
   stats.escapes = best.escapes;
   stats.headerBits = best.headerBits, stats.valueBits = best.valueBits;

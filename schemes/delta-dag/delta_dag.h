@@ -13,6 +13,8 @@
 //   flags        8 bits   the kind of child k in bits 2k, 2k+1 (MhChild: none, full, empty, leaf)
 //   value bits   6 bits   } only if some child holds a value (full or leaf): the width of each
 //   shift        5 bits   } value field, and the shift applied to every value of the pack
+//   predicted    1 bit    only if exactly three children hold values: 1 if one is predicted
+//   residual bits 4 bits  only if predicted: the width of the predicted value's field (below)
 //   shared mask  4 bits   only if some child is inner (full or empty): bit k, child k's pack is
 //                         shared (referenced by more than one pack)
 //   turned       1 bit    only if some child is shared: 1 if some shared child is read turned
@@ -28,9 +30,14 @@
 // kMaxAddressUnit): each shared pack's private tree starts at a multiple of the unit, padded with
 // zeros, so every reference to it is u bits shorter.
 // A value v adds v << shift to the depth key its parent's path reconstructs (wrapping uint32, as
-// MMH's key deltas). Packs of a few formats dominate (leaves of one width under a node of one
-// pointer width), so a code of a few bits replaces a header of up to 40 (SSVDAG's point,
-// Villanueva et al. 2017: spend bits by frequency).
+// MMH's key deltas). Where three children hold values and residual bits is not 0, the fourth child
+// holds its parent's key (a delta of 0), and the child opposite it (k ^ 3) is *predicted*: its
+// field holds r, and its value is r plus its two neighbours' values (children k ^ 1 and k ^ 2), the
+// plane through the three others. On a plane the keys of a square's corners k0 + k3 = k1 + k2
+// to an ulp or two, so a residual of 1 or 2 bits replaces the widest of the three values. Packs of
+// a few formats dominate (leaves of one width under a node of one pointer width), so a code of a
+// few bits replaces a header of up to 40 (SSVDAG's point, Villanueva et al. 2017: spend bits by
+// frequency).
 //
 // A pack referenced once is private to its parent. A pack and its private children's trees, in k
 // order, make its *private tree*, laid out in one piece, the pack first: the first private child
@@ -86,6 +93,7 @@ struct Options {
   bool symmetry = true;      // packs equal under a mirroring or transposition are one pack
   bool copies = true;        // shared packs smaller than the addresses they save are copied
   bool addressUnits = true;  // shared addresses in the unit that takes fewest bits; false: bits
+  bool prediction = true;    // a pack's value opposite its valueless child predicted from a plane
 };
 
 // The widest unit of a shared address: 2^5 bits.
@@ -100,20 +108,26 @@ struct PackShape {
   bool hasValues, hasInner;
   uint8_t innerMask;  // bit k: child k is inner (full or empty)
   uint8_t valuesBefore[kMhChildren];
+  // Where exactly three children hold values, the one opposite the fourth, which a pack may
+  // predict; kMhChildren elsewhere.
+  uint8_t predictable;
 };
 constexpr std::array<PackShape, 256> makePackShapes() {
   std::array<PackShape, 256> shapes{};
   for (uint32_t flags = 0; flags < 256; ++flags) {
     PackShape& shape = shapes[flags];
-    uint8_t values = 0;
+    uint8_t values = 0, valueless = 0;
     for (int k = 0; k < kMhChildren; ++k) {
       const uint32_t kind = childFlag(flags, k);
       shape.valuesBefore[k] = values;
-      values += kind == uint32_t(MhChild::Full) || kind == uint32_t(MhChild::Leaf);
+      const bool holds = kind == uint32_t(MhChild::Full) || kind == uint32_t(MhChild::Leaf);
+      values += holds;
+      if (!holds) valueless = uint8_t(k);
       if (kind == uint32_t(MhChild::Full) || kind == uint32_t(MhChild::Empty))
         shape.innerMask |= uint8_t(1u << k);
     }
     shape.hasValues = values != 0, shape.hasInner = shape.innerMask != 0;
+    shape.predictable = uint8_t(values == 3 ? valueless ^ 3 : kMhChildren);
   }
   return shapes;
 }
@@ -122,13 +136,20 @@ inline const PackShape& packShape(uint32_t flags) {
   return kPackShapes[flags & 0xff];
 }
 
-constexpr uint32_t kFormatCodeBits = 39, kSymmetryBits = 3;
+constexpr uint32_t kFormatCodeBits = 43, kSymmetryBits = 3;
+// A saved structure begins with its layout's version: 2 since predicted values. (Layout 1 began
+// with the root's kind.)
+constexpr uint8_t kLayoutVersion = 2;
+// A predicted value's residual takes at most 15 bits (its width's field takes 4).
+constexpr uint32_t kMaxResidualBits = 15;
 
 // A pack's format: its flags, which inner children are shared, the widths, and where its fields
 // lie (derived from the rest and the bits of its header).
 struct PackFormat {
   uint8_t flags = 0, valueBits = 0, shift = 0, sharedMask = 0, pointerBits = 0, sharedBits = 0;
-  uint8_t symmetryMask = 0, headerBits = 0;
+  uint8_t symmetryMask = 0, residualBits = 0, headerBits = 0;
+  uint8_t predicted = kMhChildren;                  // the predicted child, if residualBits
+  std::array<uint8_t, kMhChildren> valueWidth{};    // child k's value field: 0 if it holds none
   std::array<uint8_t, kMhChildren> pointerWidth{};  // child k's pointer field: 0 if implicit
   std::array<uint16_t, kMhChildren> fieldAt{};      // child k's first field, from the pack's start
   uint16_t bits = 0;                                // the whole pack's
@@ -136,7 +157,7 @@ struct PackFormat {
   uint64_t code() const {
     return uint64_t(flags) | uint64_t(valueBits) << 8 | uint64_t(shift) << 14 |
            uint64_t(pointerBits) << 19 | uint64_t(sharedBits) << 25 | uint64_t(sharedMask) << 31 |
-           uint64_t(symmetryMask) << 35;
+           uint64_t(symmetryMask) << 35 | uint64_t(residualBits) << 39;
   }
   static PackFormat ofCode(uint64_t code, uint32_t headerBits) {
     PackFormat f{uint8_t(code),
@@ -145,7 +166,8 @@ struct PackFormat {
                  uint8_t(code >> 31 & 15),
                  uint8_t(code >> 19 & 63),
                  uint8_t(code >> 25 & 63),
-                 uint8_t(code >> 35 & 15)};
+                 uint8_t(code >> 35 & 15),
+                 uint8_t(code >> 39 & 15)};
     f.derive(headerBits);
     return f;
   }
@@ -160,16 +182,19 @@ struct PackFormat {
   // Sets headerBits and the fields' places.
   void derive(uint32_t header) {
     headerBits = uint8_t(header);
+    predicted = uint8_t(residualBits ? packShape(flags).predictable : kMhChildren);
     const uint32_t implicit = privateMask() & -privateMask();
     uint32_t at = header;
     for (int k = 0; k < kMhChildren; ++k) {
       const uint32_t child = 1u << k;
       fieldAt[k] = uint16_t(at);
+      valueWidth[k] = uint8_t(!hasValue(MhChild(childFlag(flags, k))) ? 0
+                              : k == predicted                        ? residualBits
+                                                                      : valueBits);
       pointerWidth[k] = uint8_t(sharedMask & child                  ? sharedBits
                                 : privateMask() & ~implicit & child ? pointerBits
                                                                     : 0);
-      at += (hasValue(MhChild(childFlag(flags, k))) ? valueBits : 0) + pointerWidth[k] +
-            (symmetryMask & child ? kSymmetryBits : 0);
+      at += valueWidth[k] + pointerWidth[k] + (symmetryMask & child ? kSymmetryBits : 0);
     }
     bits = uint16_t(at);
   }
@@ -348,12 +373,14 @@ class DeltaDag {
     if (child == MhChild::None) return false;
     const uint64_t at = walk.position + f.fieldAt[s];
     // One read holds the value, the pointer and the symmetry where they fit 57 bits together.
-    const uint32_t pointerBits = f.pointerWidth[s];
+    const uint32_t valueBits = f.valueWidth[s], pointerBits = f.pointerWidth[s];
     uint64_t field = read64(at);
     if (hasValue(child)) {
-      walk.key += uint32_t(int64_t(field << (64 - f.valueBits)) >> (64 - f.valueBits)) << f.shift;
-      field = f.valueBits + pointerBits + kSymmetryBits <= 57 ? field >> f.valueBits
-                                                              : read64(at + f.valueBits);
+      uint32_t value = uint32_t(int64_t(field << (64 - valueBits)) >> (64 - valueBits));
+      if (s == f.predicted) value += neighboursValue(f, walk.position, s);
+      walk.key += value << f.shift;
+      field = valueBits + pointerBits + kSymmetryBits <= 57 ? field >> valueBits
+                                                            : read64(at + valueBits);
     }
     if (child != MhChild::Leaf) {
       const uint64_t pointer = field & ((uint64_t(1) << pointerBits) - 1);
@@ -369,6 +396,19 @@ class DeltaDag {
     ++walk.level;
     return true;
   }
+  // The sum of the values of the predicted child k's neighbours k ^ 1 and k ^ 2, unshifted: the
+  // plane through them and the valueless child opposite k, which holds the parent's key.
+  uint32_t neighboursValue(const PackFormat& f, uint64_t position, uint32_t k) const {
+    return uint32_t(readSigned(position + f.fieldAt[k ^ 1], f.valueBits) +
+                    readSigned(position + f.fieldAt[k ^ 2], f.valueBits));
+  }
+  // Child k's key delta (0 where it holds no value).
+  int32_t childValue(const PackFormat& f, uint64_t position, uint32_t k) const {
+    if (f.valueWidth[k] == 0) return 0;
+    uint32_t value = uint32_t(readSigned(position + f.fieldAt[k], f.valueWidth[k]));
+    if (k == f.predicted) value += neighboursValue(f, position, k);
+    return int32_t(value << f.shift);
+  }
   // The format of the pack whose first bits `word` holds.
   PackFormat format(uint64_t word) const {
     const uint32_t symbol = decode_[word & codeMask_];
@@ -382,6 +422,8 @@ class DeltaDag {
     const PackShape& shape = packShape(f.flags);
     uint32_t at = 8;
     if (shape.hasValues) f.valueBits = (word >> 8) & 63, f.shift = (word >> 14) & 31, at = 19;
+    if (shape.predictable < kMhChildren && (word >> at++ & 1))
+      f.residualBits = (word >> at) & 15, at += 4;
     if (shape.hasInner) {
       f.sharedMask = uint8_t((word >> at) & 15), at += 4;
       if (f.sharedMask && (word >> at++ & 1)) f.symmetryMask = uint8_t((word >> at) & 15), at += 4;
@@ -469,8 +511,7 @@ class DeltaDag {
   // Where the pack of inner child k of the pack at `position` lies: a shared child's address, or
   // its distance after the pack's end.
   uint64_t childPack(const PackFormat& f, uint64_t position, int k) const {
-    const uint64_t at =
-        position + f.fieldAt[k] + (hasValue(MhChild(childFlag(f.flags, k))) ? f.valueBits : 0);
+    const uint64_t at = position + f.fieldAt[k] + f.valueWidth[k];
     const uint64_t pointer = readUnsigned(at, f.pointerWidth[k]);
     return f.sharedMask >> k & 1 ? pointer << addressUnit_ : position + f.bits + pointer;
   }

@@ -16,7 +16,8 @@ Options optionsOf(const ParamValues& params) {
           params.choice("formats") == "table",
           params.choice("symmetry") == "mirrors",
           params.choice("copies") == "cheaper",
-          params.choice("address-unit") == "cheapest"};
+          params.choice("address-unit") == "cheapest",
+          params.choice("prediction") == "plane"};
 }
 
 std::unique_ptr<Decoder> encodeDeltaDag(MultiresHierarchy hierarchy, const Options& options,
@@ -89,7 +90,13 @@ SchemeInfo deltaDag() {
                         "cheapest counts shared addresses in the unit of 1 to 32 bits that takes "
                         "the fewest bits, each shared subtree padded to start on one; bit counts "
                         "them in bits",
-                        "cheapest", {"cheapest", "bit"}, {"cheapest", "bit"})};
+                        "cheapest", {"cheapest", "bit"}, {"cheapest", "bit"}),
+      ParamSpec::choice("prediction",
+                        "plane stores the value of a pack's child opposite its one valueless "
+                        "child as its residual from the plane through the other three, where "
+                        "that takes fewer bits (open surfaces' exact depths); none stores every "
+                        "value",
+                        "plane", {"plane", "none"}, {"plane", "none"})};
   setMhBuilds(info, {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
                        return [options = optionsOf(params)](MultiresHierarchy hierarchy,
                                                             BuildContext& context) {

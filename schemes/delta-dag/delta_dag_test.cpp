@@ -394,9 +394,39 @@ TEST_CASE("a layout with a table of formats reads back as built", "[delta-dag]")
       REQUIRE(loaded.texelKey(i, j) == encoded.dag.texelKey(i, j));
 }
 
-// Packs written by hand, field by field in the README's order, and the payload around them: a
-// full root at bit `root`, the address unit, the table's entries (a format's code | its prefix
-// code's length << kFormatCodeBits) and the escape's code length.
+// An open map of tilted planes, their float depths as a ray caster rounds them (each texel a point
+// interval): the keys of a square's corners are on a plane to an ulp or two, so the packs of
+// three values predict the fourth child's opposite and take fewer value bits, and every texel
+// still reads its exact key, also read back from the bytes.
+TEST_CASE("values predicted from the plane through a pack read their exact keys", "[delta-dag]") {
+  for (uint64_t seed = 1; seed <= 4; ++seed) {
+    uint64_t state = seed;
+    const float dx = 1e-4f * float(1 + nextRandom(state) % 9),
+                dy = 0.7e-4f * float(1 + nextRandom(state) % 9);
+    SyntheticMap map{128, DepthMode::Open, std::vector<float>(128 * 128), {}};
+    for (uint32_t j = 0; j < 128; ++j)
+      for (uint32_t i = 0; i < 128; ++i)
+        map.lo[size_t(j) * 128 + i] = i < 100 ? 0.3f + dx * float(i) + dy * float(j) : 0.9f;
+    map.hi = map.lo;
+    const auto build = [&](bool prediction) {
+      Options options;
+      options.prediction = prediction;
+      return delta_dag::encode(hierarchyOf(map, 32), options);
+    };
+    const delta_dag::Encoded predicted = build(true), plain = build(false);
+    INFO("seed " << seed << ", slopes " << dx << ", " << dy);
+    CHECK(texelsOutside(map, predicted.dag) == 0);
+    CHECK(predicted.statistics.valueBits < plain.statistics.valueBits * 9 / 10);
+    const DeltaDag loaded = roundTrip(predicted.dag, map.info(SchemeKind::Depth));
+    for (uint32_t j = 0; j < map.resolution; ++j)
+      for (uint32_t i = 0; i < map.resolution; ++i)
+        REQUIRE(loaded.texelKey(i, j) == depthKey(map.lo[size_t(j) * 128 + i]));
+  }
+}
+
+// Packs written by hand, field by field in the README's order, and the payload around them: the
+// layout's version, a full root at bit `root`, the address unit, the table's entries (a format's
+// code | its prefix code's length << kFormatCodeBits) and the escape's code length.
 struct HandWrittenPacks {
   std::vector<uint8_t> bytes;
   uint64_t at = 0;
@@ -409,6 +439,7 @@ struct HandWrittenPacks {
   ByteWriter payload(uint32_t rootKey, uint64_t root, uint8_t addressUnit,
                      const std::vector<uint64_t>& entries = {}, uint8_t escapeBits = 0) const {
     ByteWriter out;
+    out.put<uint8_t>(delta_dag::kLayoutVersion);
     out.put<uint8_t>(uint8_t(MhChild::Full));
     out.put<uint32_t>(rootKey);
     out.put<uint64_t>(root);
@@ -446,6 +477,32 @@ TEST_CASE("a hand-written layout with a table and an escape reads as the README 
   CHECK(dag.texelKey(2, 0) == rootKey + 1);
   CHECK(dag.texelKey(4, 0) == rootKey);
   CHECK(dag.texelKey(7, 7) == rootKey);
+}
+
+// The README's predicted value, by hand: a 2² map whose root pack has child 0 without a value
+// (the root's key) and leaves 1, 2 and 3; 4-bit values 3 and 5, and child 3 predicted with the
+// 2-bit residual −1, so its key is the root's + 3 + 5 − 1. A predicted pack whose residual bits
+// are 0 is not one the writer writes.
+TEST_CASE("a hand-written predicted value reads as the README says", "[delta-dag]") {
+  const auto packsWithResidual = [](uint32_t residualBits) {
+    HandWrittenPacks packs;
+    packs.put(0b11111100, 8), packs.put(4, 6), packs.put(0, 5), packs.put(1, 1),
+        packs.put(residualBits, 4);                                   // the format
+    packs.put(3, 4), packs.put(5, 4), packs.put(0b11, residualBits);  // values, residual
+    return packs;
+  };
+  const uint32_t rootKey = 0x3f000000;
+  const ByteWriter out = packsWithResidual(2).payload(rootKey, 0, 0);
+  ByteReader in(out.bytes());
+  const DeltaDag dag = DeltaDag::load(in, {2, 0, DepthMode::Open});
+  in.expectEnd();
+  CHECK(dag.texelKey(0, 0) == rootKey);
+  CHECK(dag.texelKey(1, 0) == rootKey + 3);
+  CHECK(dag.texelKey(0, 1) == rootKey + 5);
+  CHECK(dag.texelKey(1, 1) == rootKey + 7);
+  const ByteWriter empty = packsWithResidual(0).payload(rootKey, 0, 0);
+  ByteReader emptyIn(empty.bytes());
+  CHECK_THROWS_AS(DeltaDag::load(emptyIn, {2, 0, DepthMode::Open}), FormatError);
 }
 
 // The README's layout of a reference read turned, by hand: a shared pack A at bit 0 (explicit,

@@ -36,21 +36,16 @@ std::vector<uint32_t> childrenFirst(const std::vector<Pack>& packs, uint32_t roo
   return order;
 }
 
-// The estimated bits of a pack's private tree: itself (a mean header, its values, its children's
-// pointers: each shared child's field as wide as the widest of their `address`es, and its symmetry
-// where it reads one turned) and the trees of its children that are private or `inlined` (copied
-// into it), from `treeBits`.
-uint64_t estimatedTreeBits(const Pack& pack, const std::vector<uint32_t>& references,
+// The estimated bits of a pack's private tree: itself (a mean header, its values' fields as
+// fitted, predicted where `prediction` allows, its children's pointers: each shared child's field
+// as wide as the widest of their `address`es, and its symmetry where it reads one turned) and the
+// trees of its children that are private or `inlined` (copied into it), from `treeBits`.
+uint64_t estimatedTreeBits(const Pack& pack, bool prediction,
+                           const std::vector<uint32_t>& references,
                            const std::vector<uint8_t>& address, const std::vector<bool>& inlined,
                            const std::vector<uint64_t>& treeBits) {
-  uint32_t shift = 32, valueBits = 0, values = 0;
-  for (int k = 0; k < kMhChildren; ++k)
-    if (hasValue(MhChild(childFlag(pack.flags, k))))
-      shift = std::min<uint32_t>(shift, std::countr_zero(uint32_t(pack.values[k]))), ++values;
-  for (int k = 0; k < kMhChildren; ++k)
-    if (hasValue(MhChild(childFlag(pack.flags, k))))
-      valueBits = std::max(valueBits, signedBits(pack.values[k] >> shift));
-  uint64_t bits = kEstimatedHeaderBits + values * valueBits, after = 0, width = 0, fields = 0;
+  uint64_t bits = kEstimatedHeaderBits + fittedValues(pack, prediction).bits, after = 0, width = 0,
+           fields = 0;
   for (int k = 0; k < kMhChildren; ++k) {
     if (!isInner(childFlag(pack.flags, k))) continue;
     const uint32_t child = pack.children[k];
@@ -102,15 +97,16 @@ Pack turned(const Pack& pack, Symmetry u, const std::vector<uint8_t>& selfSymmet
   return result;
 }
 
-uint64_t orient(std::vector<Pack>& packs, std::vector<uint8_t>& selfSymmetries,
-                PackReference root) {
+uint64_t orient(std::vector<Pack>& packs, std::vector<uint8_t>& selfSymmetries, PackReference root,
+                bool prediction) {
   const std::vector<uint32_t> references = referenceCounts(packs);
   std::vector<uint64_t> treeBits(packs.size(), 0);
   {
     const std::vector<uint8_t> address = uniformAddresses(packs);
     const std::vector<bool> inlined(packs.size(), false);
     for (uint32_t id = 0; id < packs.size(); ++id)
-      treeBits[id] = estimatedTreeBits(packs[id], references, address, inlined, treeBits);
+      treeBits[id] =
+          estimatedTreeBits(packs[id], prediction, references, address, inlined, treeBits);
   }
   // Parents first, as a pack's id is above its children's: when a pack is turned, every reading
   // of it is counted. A reading other than the pack's whose references' symmetries would cost
@@ -165,7 +161,7 @@ uint64_t orient(std::vector<Pack>& packs, std::vector<uint8_t>& selfSymmetries,
 }
 
 uint32_t copyCheapShared(std::vector<Pack>& packs, const std::vector<uint8_t>& selfSymmetries,
-                         uint32_t rootPack, uint64_t& copies) {
+                         uint32_t rootPack, bool prediction, uint64_t& copies) {
   const std::vector<uint32_t> references = referenceCounts(packs);
   const std::vector<uint32_t> order = childrenFirst(packs, rootPack);
   std::vector<uint64_t> treeBits(packs.size(), 0);
@@ -175,7 +171,7 @@ uint32_t copyCheapShared(std::vector<Pack>& packs, const std::vector<uint8_t>& s
   // layout will, the most referenced first (pack_layout.h): then each address is as wide as the
   // bits before it.
   for (const uint32_t id : order)
-    treeBits[id] = estimatedTreeBits(packs[id], references, address, copied, treeBits);
+    treeBits[id] = estimatedTreeBits(packs[id], prediction, references, address, copied, treeBits);
   std::vector<uint32_t> shared;
   for (const uint32_t id : order)
     if (references[id] > 1) shared.push_back(id);
@@ -187,7 +183,7 @@ uint32_t copyCheapShared(std::vector<Pack>& packs, const std::vector<uint8_t>& s
   // Then children first, whether each shared pack is copied: shared by r packs it costs its tree
   // and r addresses, copied r trees.
   for (const uint32_t id : order) {
-    treeBits[id] = estimatedTreeBits(packs[id], references, address, copied, treeBits);
+    treeBits[id] = estimatedTreeBits(packs[id], prediction, references, address, copied, treeBits);
     copied[id] =
         references[id] > 1 && (references[id] - 1) * treeBits[id] < references[id] * address[id];
   }

@@ -38,14 +38,16 @@ inline uint8_t turnedFlags(uint8_t flags, Symmetry u) {
 // a shared pack another way than most; the root's pack then reads unturned. A reading whose
 // references' symmetries would take more bits than the pack's tree is split off: a pack of its
 // own, turned its way, appended. `packs` must reference only packs of lower ids (as hash-consing
-// finds them); split packs break that order. Returns the packs split off.
-uint64_t orient(std::vector<Pack>& packs, std::vector<uint8_t>& selfSymmetries, PackReference root);
+// finds them); split packs break that order. Returns the packs split off. `prediction`: packs'
+// values are estimated as fittedValues fits them.
+uint64_t orient(std::vector<Pack>& packs, std::vector<uint8_t>& selfSymmetries, PackReference root,
+                bool prediction);
 
 // The packs with each shared pack whose private tree takes fewer bits than the addresses it saves
 // copied into every pack that references it, each copy turned the way it is read: a copy costs
 // its tree once more and no address, as the first private child follows its parent. Returns the
 // new root; the packs then reference only packs of lower ids. `copies` counts the packs added.
 uint32_t copyCheapShared(std::vector<Pack>& packs, const std::vector<uint8_t>& selfSymmetries,
-                         uint32_t rootPack, uint64_t& copies);
+                         uint32_t rootPack, bool prediction, uint64_t& copies);
 
 }  // namespace sb::delta_dag

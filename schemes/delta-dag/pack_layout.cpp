@@ -73,6 +73,52 @@ uint8_t widthFor(uint8_t width, uint64_t pointer) {
 
 }  // namespace
 
+int64_t predictionResidual(const Pack& pack, uint32_t shift) {
+  const uint32_t k = packShape(pack.flags).predictable;
+  return int64_t(pack.values[k] >> shift) - (pack.values[k ^ 1] >> shift) -
+         (pack.values[k ^ 2] >> shift);
+}
+
+bool fitsValues(const Pack& pack, const ValueFields& fields) {
+  const uint32_t predicted = fields.residualBits ? packShape(pack.flags).predictable : kMhChildren;
+  for (uint32_t k = 0; k < kMhChildren; ++k) {
+    if (!hasValue(MhChild(childFlag(pack.flags, int(k))))) continue;
+    if (std::countr_zero(uint32_t(pack.values[k])) < fields.shift) return false;
+    if (k == predicted ? signedBits(predictionResidual(pack, fields.shift)) > fields.residualBits
+                       : signedBits(pack.values[k] >> fields.shift) > fields.valueBits)
+      return false;
+  }
+  return true;
+}
+
+ValueFields fittedValues(const Pack& pack, bool prediction) {
+  ValueFields fields;
+  const PackShape& shape = packShape(pack.flags);
+  if (!shape.hasValues) return fields;
+  uint32_t shift = 32, values = 0;
+  for (int k = 0; k < kMhChildren; ++k)
+    if (hasValue(MhChild(childFlag(pack.flags, k))))
+      shift = std::min<uint32_t>(shift, std::countr_zero(uint32_t(pack.values[k]))), ++values;
+  fields.shift = uint8_t(shift);
+  const auto widest = [&](uint32_t except) {
+    uint32_t bits = 0;
+    for (uint32_t k = 0; k < kMhChildren; ++k)
+      if (k != except && hasValue(MhChild(childFlag(pack.flags, int(k)))))
+        bits = std::max(bits, signedBits(pack.values[k] >> shift));
+    return bits;
+  };
+  fields.valueBits = uint8_t(widest(kMhChildren));
+  fields.bits = values * fields.valueBits;
+  if (prediction && shape.predictable < kMhChildren) {
+    const uint32_t residualBits = signedBits(predictionResidual(pack, shift));
+    const uint32_t neighbourBits = widest(shape.predictable);
+    if (residualBits <= kMaxResidualBits && 2 * neighbourBits + residualBits < fields.bits)
+      fields = {fields.shift, uint8_t(neighbourBits), uint8_t(residualBits),
+                2 * neighbourBits + residualBits};
+  }
+  return fields;
+}
+
 uint32_t cheapestAddressUnit(const std::vector<uint64_t>& positions,
                              const std::vector<uint32_t>& references, uint32_t maxUnit) {
   uint32_t cheapest = 0;
@@ -97,8 +143,8 @@ uint64_t Layout::cost() const {
 }
 
 Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
-              const std::vector<uint32_t>& shared, uint32_t addressUnit, FormatTable table,
-              LayoutPass pass) {
+              const std::vector<uint32_t>& shared, uint32_t addressUnit, bool prediction,
+              FormatTable table, LayoutPass pass) {
   Layout layout;
   layout.pass = pass;
   layout.addressUnit = addressUnit;
@@ -152,29 +198,18 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       e.pointers[k] = after;
       after += treeBits[child];
     });
-    uint32_t shift = 32;
-    for (int k = 0; k < kMhChildren; ++k)
-      if (hasValue(MhChild(childFlag(pack.flags, k))))
-        shift = std::min<uint32_t>(shift, std::countr_zero(uint32_t(pack.values[k])));
-    f.shift = uint8_t(packShape(pack.flags).hasValues ? shift : 0);
-    for (int k = 0; k < kMhChildren; ++k)
-      if (hasValue(MhChild(childFlag(pack.flags, k))))
-        f.valueBits = uint8_t(std::max(uint32_t(f.valueBits), signedBits(pack.values[k] >> shift)));
+    const ValueFields values = fittedValues(pack, prediction);
+    f.shift = values.shift, f.valueBits = values.valueBits, f.residualBits = values.residualBits;
     if (std::max(f.pointerBits, f.sharedBits) > kMaxPointerBits)
       throw std::length_error("delta-dag: a pointer needs more than 54 bits");
     f.derive(escapeBits + f.explicitBits());
     e.ownCode = f.code();
-    // A table format holds the pack if its widths are at least as wide and its shift at most as
-    // large; it is used where it takes fewer bits than the explicit one.
+    // A table format holds the pack if its pointers are at least as wide and its values fit,
+    // predicted or not as it says; it is used where it takes fewer bits than the explicit one.
     const auto holds = [&](const PackFormat& g) {
-      if (g.shift > f.shift || g.pointerBits < f.pointerBits || g.sharedBits < f.sharedBits ||
-          (f.symmetryMask & ~g.symmetryMask) != 0)
-        return false;
-      for (int k = 0; k < kMhChildren; ++k)
-        if (hasValue(MhChild(childFlag(pack.flags, k))) &&
-            signedBits(pack.values[k] >> g.shift) > g.valueBits)
-          return false;
-      return true;
+      return g.pointerBits >= f.pointerBits && g.sharedBits >= f.sharedBits &&
+             (f.symmetryMask & ~g.symmetryMask) == 0 &&
+             fitsValues(pack, {g.shift, g.valueBits, g.residualBits, 0});
     };
     if (chosen[id] == -2) {
       chosen[id] = -1;
@@ -213,6 +248,8 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       out.put(escapeCode, escapeBits);
       out.put(f.flags, 8);
       if (shape.hasValues) out.put(f.valueBits, 6), out.put(f.shift, 5);
+      if (shape.predictable < kMhChildren) out.put(f.residualBits != 0, 1);
+      if (f.residualBits) out.put(f.residualBits, 4);
       if (shape.hasInner) {
         out.put(f.sharedMask, 4);
         if (f.sharedMask) out.put(f.symmetryMask != 0, 1);
@@ -223,9 +260,11 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
     }
     layout.headerBits += f.headerBits;
     for (int k = 0; k < kMhChildren; ++k) {
-      if (hasValue(MhChild(childFlag(f.flags, k)))) {
-        out.put(uint64_t(int64_t(pack.values[k] >> f.shift)), f.valueBits);
-        layout.valueBits += f.valueBits;
+      if (f.valueWidth[k] != 0) {
+        out.put(uint64_t(k == f.predicted ? predictionResidual(pack, f.shift)
+                                          : int64_t(pack.values[k] >> f.shift)),
+                f.valueWidth[k]);
+        layout.valueBits += f.valueWidth[k];
       }
       out.put(e.pointers[k], f.pointerWidth[k]);
       layout.pointerBits += f.pointerWidth[k];
@@ -290,6 +329,7 @@ FormatTable frequentFormats(std::vector<uint64_t> ownCodes, uint64_t minCount, u
   for (const auto& [code, count] : counts) {
     PackFormat f = PackFormat::ofCode(code, 0);
     f.valueBits = uint8_t(even(f.valueBits, 32 - f.shift));
+    if (f.residualBits) f.residualBits = uint8_t(even(f.residualBits, kMaxResidualBits));
     f.pointerBits = uint8_t(even(f.pointerBits, kMaxPointerBits));
     f.sharedBits = uint8_t(even(f.sharedBits, kMaxPointerBits));
     if (f.symmetryMask) f.symmetryMask = f.sharedMask;

@@ -42,6 +42,22 @@ struct Pack {
   }
 };
 
+// The fields of a pack's values: one shift for all, and one width for all, or (`residualBits`
+// not 0) one for the two neighbours of the predicted child and one for its residual (delta_dag.h).
+struct ValueFields {
+  uint8_t shift = 0, valueBits = 0, residualBits = 0;
+  uint32_t bits = 0;  // of all its values' fields
+};
+// The residual of the value that `pack` may predict (PackShape::predictable), its values shifted
+// right by `shift`: the value less its two neighbours'.
+int64_t predictionResidual(const Pack& pack, uint32_t shift);
+// Whether `pack`'s values fit `fields`: each value (the predicted one's residual) as wide as its
+// field at most, and a multiple of 2^shift.
+bool fitsValues(const Pack& pack, const ValueFields& fields);
+// The value fields of fewest bits for `pack`: its values' common trailing zeros as the shift, and
+// with `prediction` the predicted form where it takes fewer bits.
+ValueFields fittedValues(const Pack& pack, bool prediction);
+
 // Appends fields of up to 57 bits to a little-endian bit stream.
 class BitWriter {
  public:
@@ -104,9 +120,10 @@ uint32_t cheapestAddressUnit(const std::vector<uint64_t>& positions,
 // trees are laid out first in the order `shared`, each from a multiple of 2^addressUnit bits; the
 // formats of `table`. A counted layout has only bitCount, rootPosition, sharedPositions and
 // ownCodes.
+// `prediction`: packs may predict a value (fittedValues).
 Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
-              const std::vector<uint32_t>& shared, uint32_t addressUnit, FormatTable table,
-              LayoutPass pass = LayoutPass::Write);
+              const std::vector<uint32_t>& shared, uint32_t addressUnit, bool prediction,
+              FormatTable table, LayoutPass pass = LayoutPass::Write);
 // A table of the formats that `ownCodes` (each pack's format code) hold at least `minCount` times
 // (the most frequent 2^maxBits − 1, fewer than kNoSymbol), with Huffman codes of at most maxBits
 // by count, the escape's by the packs left out.
