@@ -324,11 +324,11 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     if (dag.decode_[word & dag.codeMask_] == kNoSymbol)
       throw fail(position, "starts with no format's code");
     const PackFormat f = dag.format(word);
-    if (f.headerBits > bits - position) throw fail(position, "runs past the packs");
+    if (f.headerBits() > bits - position) throw fail(position, "runs past the packs");
     if (const std::string invalid = invalidFormat(f); !invalid.empty())
       throw fail(position, invalid);
     if (dag.decode_[word & dag.codeMask_] >= dag.formats_.size() &&
-        f.headerBits != dag.escapeBits_ + f.explicitBits())
+        f.headerBits() != dag.escapeBits_ + f.explicitBits())
       throw fail(position,
                  "is marked turned with no child turned, or predicted with 0-bit residuals");
     if (f.bits > bits - position) throw fail(position, "runs past the packs");

@@ -13,8 +13,6 @@
 //   flags        8 bits   the kind of child k in bits 2k, 2k+1 (MhChild: none, full, empty, leaf)
 //   value bits   6 bits   } only if some child holds a value (full or leaf): the width of each
 //   shift        5 bits   } value field, and the shift applied to every value of the pack
-//   predicted    1 bit    only if exactly three children hold values: 1 if one is predicted
-//   residual bits 4 bits  only if predicted: the width of the predicted value's field (below)
 //   shared mask  4 bits   only if some child is inner (full or empty): bit k, child k's pack is
 //                         shared (referenced by more than one pack)
 //   turned       1 bit    only if some child is shared: 1 if some shared child is read turned
@@ -22,6 +20,8 @@
 //   pointer bits 6 bits   if two or more inner children are private (not shared): the width of
 //                         the pointer of each private child but the first
 //   shared bits  6 bits   if one is shared: the width of a shared child's address
+//   predicted    1 bit    only if exactly three children hold values: 1 if one is predicted
+//   residual bits 4 bits  only if predicted: the width of the predicted value's field (below)
 //   then, child by child in k order: its value (signed, value bits) if it holds one, then its
 //   pointer if it is inner: a shared child's address, or a private child's distance after the
 //   pack's end (none for the first private child, which starts there), then the 3-bit symmetry
@@ -147,9 +147,7 @@ constexpr uint32_t kMaxResidualBits = 15;
 // lie (derived from the rest and the bits of its header).
 struct PackFormat {
   uint8_t flags = 0, valueBits = 0, shift = 0, sharedMask = 0, pointerBits = 0, sharedBits = 0;
-  uint8_t symmetryMask = 0, residualBits = 0, headerBits = 0;
-  uint8_t predicted = kMhChildren;                  // the predicted child, if residualBits
-  std::array<uint8_t, kMhChildren> valueWidth{};    // child k's value field: 0 if it holds none
+  uint8_t symmetryMask = 0, residualBits = 0;
   std::array<uint8_t, kMhChildren> pointerWidth{};  // child k's pointer field: 0 if implicit
   std::array<uint16_t, kMhChildren> fieldAt{};      // child k's first field, from the pack's start
   uint16_t bits = 0;                                // the whole pack's
@@ -179,26 +177,38 @@ struct PackFormat {
   uint32_t groupKey() const { return flags | uint32_t(sharedMask) << 8; }
   // The bits of its explicit form: flags, then the fields the flags and the mask call for.
   uint32_t explicitBits() const;
-  // Sets headerBits and the fields' places.
+  // Derived from the fields above rather than kept: a step reads its format from a table of up
+  // to 2^16 formats, and each byte more takes more of them out of the cache (the forest at 16K²
+  // holds 47 K; its view point lookups, three runs in turn with `dag-mh`'s: 1.06–1.13× with
+  // formats of 28 bytes, 0.98–1.03× with 24, 0.94–0.95× at 22 before predictions).
+  uint32_t headerBits() const { return fieldAt[0]; }
+  // The predicted child, kMhChildren if none.
+  uint32_t predicted() const {
+    return residualBits ? packShape(flags).predictable : uint32_t(kMhChildren);
+  }
+  // Child k's value field: 0 where it holds no value.
+  uint32_t valueWidth(int k) const {
+    return !hasValue(MhChild(childFlag(flags, k))) ? 0
+           : uint32_t(k) == predicted()            ? residualBits
+                                                   : valueBits;
+  }
+  // Sets the fields' places after a header of `header` bits.
   void derive(uint32_t header) {
-    headerBits = uint8_t(header);
-    predicted = uint8_t(residualBits ? packShape(flags).predictable : kMhChildren);
     const uint32_t implicit = privateMask() & -privateMask();
     uint32_t at = header;
     for (int k = 0; k < kMhChildren; ++k) {
       const uint32_t child = 1u << k;
       fieldAt[k] = uint16_t(at);
-      valueWidth[k] = uint8_t(!hasValue(MhChild(childFlag(flags, k))) ? 0
-                              : k == predicted                        ? residualBits
-                                                                      : valueBits);
       pointerWidth[k] = uint8_t(sharedMask & child                  ? sharedBits
                                 : privateMask() & ~implicit & child ? pointerBits
                                                                     : 0);
-      at += valueWidth[k] + pointerWidth[k] + (symmetryMask & child ? kSymmetryBits : 0);
+      at += valueWidth(k) + pointerWidth[k] + (symmetryMask & child ? kSymmetryBits : 0);
     }
     bits = uint16_t(at);
   }
 };
+
+static_assert(sizeof(PackFormat) == 22, "a format's bytes decide how many stay in the cache");
 
 // The table of frequent formats and their prefix code (prefix_code.h): format c's code takes
 // lengths[c] bits, the escape's lengths.back(). Both empty: no table, no escape code, every
@@ -373,11 +383,15 @@ class DeltaDag {
     if (child == MhChild::None) return false;
     const uint64_t at = walk.position + f.fieldAt[s];
     // One read holds the value, the pointer and the symmetry where they fit 57 bits together.
-    const uint32_t valueBits = f.valueWidth[s], pointerBits = f.pointerWidth[s];
+    uint32_t valueBits = f.valueBits;
+    const uint32_t pointerBits = f.pointerWidth[s];
     uint64_t field = read64(at);
     if (hasValue(child)) {
+      // Most formats predict nothing: their test ends at the residual's width.
+      const bool predicted = f.residualBits != 0 && s == packShape(f.flags).predictable;
+      if (predicted) valueBits = f.residualBits;
       uint32_t value = uint32_t(int64_t(field << (64 - valueBits)) >> (64 - valueBits));
-      if (s == f.predicted) value += neighboursValue(f, walk.position, s);
+      if (predicted) value += neighboursValue(f, walk.position, s);
       walk.key += value << f.shift;
       field = valueBits + pointerBits + kSymmetryBits <= 57 ? field >> valueBits
                                                             : read64(at + valueBits);
@@ -404,9 +418,10 @@ class DeltaDag {
   }
   // Child k's key delta (0 where it holds no value).
   int32_t childValue(const PackFormat& f, uint64_t position, uint32_t k) const {
-    if (f.valueWidth[k] == 0) return 0;
-    uint32_t value = uint32_t(readSigned(position + f.fieldAt[k], f.valueWidth[k]));
-    if (k == f.predicted) value += neighboursValue(f, position, k);
+    const uint32_t bits = f.valueWidth(int(k));
+    if (bits == 0) return 0;
+    uint32_t value = uint32_t(readSigned(position + f.fieldAt[k], bits));
+    if (k == f.predicted()) value += neighboursValue(f, position, k);
     return int32_t(value << f.shift);
   }
   // The format of the pack whose first bits `word` holds.
@@ -415,21 +430,25 @@ class DeltaDag {
     if (symbol < formatCount_) return formats_[symbol];
     return explicitFormat(word >> escapeBits_, escapeBits_);
   }
-  // An explicit format from its first bits, after `escapeBits` bits of escape code.
-  static PackFormat explicitFormat(uint64_t word, uint32_t escapeBits) {
+  // An explicit format from its first bits, after `escapeBits` bits of escape code. Out of line,
+  // so that a walk's loop stays small for the table's formats (a fifth of the forest's packs
+  // escape; its view point lookups at 16K², in turn with `dag-mh`'s: 0.92–1.01× against
+  // 0.96–1.04× inline, 0.92–0.98× before predictions).
+  [[gnu::noinline]] static PackFormat explicitFormat(uint64_t word, uint32_t escapeBits) {
     PackFormat f;
     f.flags = uint8_t(word & 0xff);
     const PackShape& shape = packShape(f.flags);
     uint32_t at = 8;
     if (shape.hasValues) f.valueBits = (word >> 8) & 63, f.shift = (word >> 14) & 31, at = 19;
-    if (shape.predictable < kMhChildren && (word >> at++ & 1))
-      f.residualBits = (word >> at) & 15, at += 4;
     if (shape.hasInner) {
       f.sharedMask = uint8_t((word >> at) & 15), at += 4;
       if (f.sharedMask && (word >> at++ & 1)) f.symmetryMask = uint8_t((word >> at) & 15), at += 4;
       if (f.hasPointerWidth()) f.pointerBits = (word >> at) & 63, at += 6;
       if (f.sharedMask) f.sharedBits = (word >> at) & 63, at += 6;
     }
+    // Last, so that the fields before keep their places whether a pack predicts or not.
+    if (shape.predictable < kMhChildren && (word >> at++ & 1))
+      f.residualBits = (word >> at) & 15, at += 4;
     f.derive(escapeBits + at);
     return f;
   }
@@ -511,7 +530,7 @@ class DeltaDag {
   // Where the pack of inner child k of the pack at `position` lies: a shared child's address, or
   // its distance after the pack's end.
   uint64_t childPack(const PackFormat& f, uint64_t position, int k) const {
-    const uint64_t at = position + f.fieldAt[k] + f.valueWidth[k];
+    const uint64_t at = position + f.fieldAt[k] + f.valueWidth(k);
     const uint64_t pointer = readUnsigned(at, f.pointerWidth[k]);
     return f.sharedMask >> k & 1 ? pointer << addressUnit_ : position + f.bits + pointer;
   }
@@ -526,7 +545,7 @@ class DeltaDag {
   uint64_t rootPosition_ = 0;
   uint32_t addressUnit_ = 0;  // a shared address counts 2^addressUnit_ bits
   FormatTable table_;
-  std::vector<PackFormat> formats_;  // the table's, each with headerBits its code's length
+  std::vector<PackFormat> formats_;  // the table's, each with its code's length as header
   uint32_t formatCount_ = 0;         // formats_.size(), kept so that a step need not divide
   uint32_t escapeBits_ = 0;
   uint64_t codeMask_ = 0;         // the bits that decode a code: 2^(the longest code) − 1

@@ -55,7 +55,7 @@ int64_t predictionResidual(const Pack& pack, uint32_t shift);
 // field at most, and a multiple of 2^shift.
 bool fitsValues(const Pack& pack, const ValueFields& fields);
 // The value fields of fewest bits for `pack`: its values' common trailing zeros as the shift, and
-// with `prediction` the predicted form where it takes fewer bits.
+// with `prediction` the predicted form where it takes 4 bits fewer or more.
 ValueFields fittedValues(const Pack& pack, bool prediction);
 
 // Appends fields of up to 57 bits to a little-endian bit stream.
