@@ -387,11 +387,17 @@ class DeltaDag {
     const uint32_t pointerBits = f.pointerWidth[s];
     uint64_t field = read64(at);
     if (hasValue(child)) {
-      // Most formats predict nothing: their test ends at the residual's width.
-      const bool predicted = f.residualBits != 0 && s == packShape(f.flags).predictable;
-      if (predicted) valueBits = f.residualBits;
-      uint32_t value = uint32_t(int64_t(field << (64 - valueBits)) >> (64 - valueBits));
-      if (predicted) value += neighboursValue(f, walk.position, s);
+      uint32_t value;
+      if (f.residualBits == 0) {
+        value = uint32_t(int64_t(field << (64 - valueBits)) >> (64 - valueBits));
+      } else {
+        // Without a branch on the child: in a predicting pack it is the predicted one as often as
+        // not.
+        const bool predicted = s == packShape(f.flags).predictable;
+        valueBits = predicted ? f.residualBits : valueBits;
+        value = uint32_t(int64_t(field << (64 - valueBits)) >> (64 - valueBits)) +
+                (neighboursValue(f, walk.position, s) & (0u - uint32_t(predicted)));
+      }
       walk.key += value << f.shift;
       field = valueBits + pointerBits + kSymmetryBits <= 57 ? field >> valueBits
                                                             : read64(at + valueBits);

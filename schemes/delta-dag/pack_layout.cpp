@@ -87,7 +87,6 @@ bool fitsValues(const Pack& pack, const ValueFields& fields) {
   const uint32_t predicted = fields.residualBits ? packShape(pack.flags).predictable : kMhChildren;
   for (uint32_t k = 0; k < kMhChildren; ++k) {
     if (!hasValue(MhChild(childFlag(pack.flags, int(k))))) continue;
-    if (std::countr_zero(uint32_t(pack.values[k])) < fields.shift) return false;
     if (k == predicted ? signedBits(predictionResidual(pack, fields.shift)) > fields.residualBits
                        : signedBits(pack.values[k] >> fields.shift) > fields.valueBits)
       return false;
@@ -215,7 +214,7 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
     // A table format holds the pack if its pointers are at least as wide and its values fit,
     // predicted or not as it says; it is used where it takes fewer bits than the explicit one.
     const auto holds = [&](const PackFormat& g) {
-      return g.pointerBits >= f.pointerBits && g.sharedBits >= f.sharedBits &&
+      return g.shift <= f.shift && g.pointerBits >= f.pointerBits && g.sharedBits >= f.sharedBits &&
              (f.symmetryMask & ~g.symmetryMask) == 0 &&
              fitsValues(pack, {g.shift, g.valueBits, g.residualBits, 0});
     };

@@ -51,8 +51,8 @@ struct ValueFields {
 // The residual of the value that `pack` may predict (PackShape::predictable), its values shifted
 // right by `shift`: the value less its two neighbours'.
 int64_t predictionResidual(const Pack& pack, uint32_t shift);
-// Whether `pack`'s values fit `fields`: each value (the predicted one's residual) as wide as its
-// field at most, and a multiple of 2^shift.
+// Whether `pack`'s values fit `fields`, whose shift is at most their common trailing zeros: each
+// value (the predicted one's residual) as wide as its field at most.
 bool fitsValues(const Pack& pack, const ValueFields& fields);
 // The value fields of fewest bits for `pack`: its values' common trailing zeros as the shift, and
 // with `prediction` the predicted form where it takes 4 bits fewer or more.
