@@ -71,10 +71,9 @@ uint8_t widthFor(uint8_t width, uint64_t pointer) {
   return uint8_t(std::max<uint32_t>({width, 1u, uint32_t(std::bit_width(pointer))}));
 }
 
-}  // namespace
-
-namespace {
+// A pack predicts a value where that saves this many bits or more (fittedValues).
 constexpr uint32_t kMinPredictionGain = 4;
+
 }  // namespace
 
 int64_t predictionResidual(const Pack& pack, uint32_t shift) {
