@@ -154,15 +154,6 @@ uint64_t DeltaDag::skipSquaresAnsweredAbove() const {
   return answered;
 }
 
-uint32_t PackFormat::explicitBits() const {
-  const PackShape& shape = packShape(flags);
-  return 8 + (shape.hasValues ? 11 : 0) +
-         (shape.predictable < kMhChildren ? 1 + (residualBits ? 4 : 0) : 0) +
-         (shape.hasInner
-              ? 4 + (hasPointerWidth() ? 6 : 0) + (sharedMask ? 1 + (symmetryMask ? 4 : 0) + 6 : 0)
-              : 0);
-}
-
 SizeBreakdown DeltaDag::size() const {
   // The layout's version, the root's kind, key and position, the address unit; the table with its
   // codes' lengths, the escape's; the packs' bits (whole bytes; the padding is not part of the
