@@ -265,7 +265,7 @@ class DeltaDag {
       } else {
         // Without a branch on the child: in a predicting pack it is the predicted one as often as
         // not.
-        const bool predicted = s == packShape(f.flags).predictable;
+        const bool predicted = s == f.predicted();
         valueBits = predicted ? f.residualBits : valueBits;
         value = uint32_t(int64_t(field << (64 - valueBits)) >> (64 - valueBits)) +
                 (neighboursValue(f, walk.position, s) & (0u - uint32_t(predicted)));
