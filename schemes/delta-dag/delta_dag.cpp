@@ -28,7 +28,8 @@ constexpr uint64_t kFirstReserve = uint64_t(1) << 16;
 // beside the store: while oriented, its references, estimated tree bits, readings and frame
 // (4 + 8 + 16 + 1) with the store's room to double as readings split off (80); while copied,
 // the rebuilt store with room to double (80) beside the references, order, tree bits, address
-// and new id (4 + 4 + 8 + 1 + 4); while laid out, less (pack_layout.cpp: 28 and the output).
+// and new id (4 + 4 + 8 + 1 + 4); while laid out, less (two counted layouts' formats and tree
+// bits, 12 each, the explicit count's own codes and the places, 8 each, and the output).
 constexpr uint64_t kLaterBytesPerPack = 4 + 8 + 16 + 1 + 2 * sizeof(Pack);
 
 // The relative value of a node holding interval [lo, hi] below a path that reconstructs `parent`.
@@ -468,20 +469,17 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options, const Reserv
   // formats). The smallest layout, tables counted, is kept: a pack's format may be any of the
   // table's that holds it, so what a table saves is known only by laying it out. Codes are at
   // most as long as keeps the decode table within 1/64 of the explicit layout's bits.
-  // The explicit layout is first only counted (its formats and bits), and written if it stays the
-  // smallest.
+  // Every layout is counted, and only the smallest written.
   // Shared addresses count the unit their places in that layout (with addresses in bits) make the
   // cheapest (pack_layout.h), and every layout after it uses that unit.
-  Layout best =
-      layOut(packs, rootPack, absolute, shared, 0, options.prediction, {}, LayoutPass::Count);
+  Layout best = countLayout(packs, rootPack, absolute, shared, 0, options.prediction, {});
   if (options.addressUnits) {
     std::vector<uint32_t> sharedReferences;
     for (const uint32_t id : shared) sharedReferences.push_back(references[id]);
     const uint32_t unit =
         cheapestAddressUnit(best.sharedPositions, sharedReferences, kMaxAddressUnit);
     if (unit != 0)
-      best = layOut(packs, rootPack, absolute, shared, unit, options.prediction, {},
-                    LayoutPass::Count);
+      best = countLayout(packs, rootPack, absolute, shared, unit, options.prediction, {});
   }
   const uint32_t unit = best.addressUnit;
   const auto keepSmaller = [&](Layout next) {
@@ -490,14 +488,13 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options, const Reserv
   const uint32_t maxBits =
       std::min<uint32_t>(kMaxCodeBits, std::bit_width(best.bits() / (64 * 16)) - 1);
   if (options.formatTable && best.bits() >= 64 * 16 * 16) {
-    keepSmaller(layOut(packs, rootPack, absolute, shared, unit, options.prediction,
-                       frequentFormats(std::move(best.ownCodes), kMinFormatUses, maxBits)));
+    keepSmaller(countLayout(packs, rootPack, absolute, shared, unit, options.prediction,
+                            frequentFormats(std::move(best.ownCodes), kMinFormatUses, maxBits)));
     if (!best.table.codes.empty())
-      keepSmaller(layOut(packs, rootPack, absolute, shared, unit, options.prediction,
-                         refitted(best, maxBits)));
+      keepSmaller(countLayout(packs, rootPack, absolute, shared, unit, options.prediction,
+                              refitted(best, maxBits)));
   }
-  if (best.pass == LayoutPass::Count)
-    best = layOut(packs, rootPack, absolute, shared, unit, options.prediction, {});
+  writeLayout(packs, rootPack, absolute, shared, options.prediction, best);
   stats.formats = best.table.codes.size();
   stats.escapes = best.escapes;
   stats.headerBits = best.headerBits, stats.valueBits = best.valueBits;

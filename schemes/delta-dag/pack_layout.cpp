@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <queue>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "schemes/delta-dag/prefix_code.h"
 
@@ -67,6 +68,9 @@ struct PackEncoding {
   std::array<uint64_t, kMhChildren> pointers{};
 };
 
+// A layout counted, or written as it was counted.
+enum class LayoutPass : uint8_t { Count, Write };
+
 uint8_t widthFor(uint8_t width, uint64_t pointer) {
   return uint8_t(std::max<uint32_t>({width, 1u, uint32_t(std::bit_width(pointer))}));
 }
@@ -74,23 +78,81 @@ uint8_t widthFor(uint8_t width, uint64_t pointer) {
 // A pack predicts a value where that saves this many bits or more (fittedValues).
 constexpr uint32_t kMinPredictionGain = 4;
 
+// What a pack needs of a table format to be written in it.
+struct FormatNeed {
+  uint16_t bits;  // its explicit format's: a table format must take fewer
+  uint8_t shift, pointerBits, sharedBits, symmetryMask;
+  // Its values' widths at its own shift: all, all but the predictable one, and the residual's (0
+  // where the residual is 0). A format of d bits less shift needs each of them d bits wider, but
+  // a residual of 0, which takes 1 bit at every shift.
+  uint8_t widest, neighbours, residual;
+};
+
+FormatNeed needOf(const Pack& pack, const PackFormat& own) {
+  FormatNeed need{own.bits, own.shift, own.pointerBits, own.sharedBits, own.symmetryMask, 0, 0, 0};
+  const uint32_t predictable = packShape(pack.flags).predictable;
+  for (uint32_t k = 0; k < kMhChildren; ++k) {
+    if (!hasValue(MhChild(childFlag(pack.flags, int(k))))) continue;
+    const uint8_t bits = uint8_t(signedBits(pack.values[k] >> own.shift));
+    need.widest = std::max(need.widest, bits);
+    if (k != predictable) need.neighbours = std::max(need.neighbours, bits);
+  }
+  if (predictable < kMhChildren)
+    if (const int64_t residual = predictionResidual(pack, own.shift); residual != 0)
+      need.residual = uint8_t(signedBits(residual));
+  return need;
+}
+
+// A table format as the search compares it: 8 bytes, so that a group's scan reads few lines.
+struct FormatFit {
+  uint16_t bits;
+  uint8_t shift, valueBits, residualBits, pointerBits, sharedBits, symmetryMask;
+};
+
+// Whether a format holds a pack: its pointers at least as wide, the symmetries it needs, and its
+// values fit, predicted or not as the format says. Evaluated without branches: which test fails
+// varies from format to format, and mispredicted branches took most of the scan's time.
+bool holds(const FormatFit& g, const FormatNeed& need) {
+  const int d = int(need.shift) - int(g.shift);
+  const bool predicted = g.residualBits != 0;
+  const int residual = need.residual != 0 ? need.residual + d : 1;
+  return (d >= 0) & (g.pointerBits >= need.pointerBits) & (g.sharedBits >= need.sharedBits) &
+         ((need.symmetryMask & ~g.symmetryMask) == 0) &
+         ((predicted ? need.neighbours : need.widest) + d <= g.valueBits) &
+         (!predicted | (residual <= g.residualBits));
+}
+
+// The table's formats of one flags and shared mask (PackFormat::groupKey), by the bits they take.
+constexpr uint32_t kFormatGroups = 1u << 12;
+struct FormatGroup {
+  std::vector<FormatFit> fits;
+  std::vector<uint32_t> index;  // into the table
+};
+
+// The first format of `group` that holds the pack and takes fewer bits than its explicit format
+// (the cheapest), or -1. A search scans about 100 formats (the forest at 16K²: 220 M for 2.18 M
+// packs), in blocks of 32 tested at once.
+int32_t cheapestHolder(const FormatGroup& group, const FormatNeed& need) {
+  constexpr size_t kBlock = 32;
+  for (size_t begin = 0; begin < group.fits.size(); begin += kBlock) {
+    const size_t end = std::min(group.fits.size(), begin + kBlock);
+    uint32_t held = 0, cheaper = 0;
+    for (size_t i = begin; i < end; ++i) {
+      held |= uint32_t(holds(group.fits[i], need)) << (i - begin);
+      cheaper |= uint32_t(group.fits[i].bits < need.bits) << (i - begin);
+    }
+    if ((held &= cheaper) != 0) return int32_t(group.index[begin + std::countr_zero(held)]);
+    if (size_t(std::countr_one(cheaper)) < end - begin) return -1;  // the rest take more bits
+  }
+  return -1;
+}
+
 }  // namespace
 
 int64_t predictionResidual(const Pack& pack, uint32_t shift) {
   const uint32_t k = packShape(pack.flags).predictable;
   return int64_t(pack.values[k] >> shift) - (pack.values[k ^ 1] >> shift) -
          (pack.values[k ^ 2] >> shift);
-}
-
-bool fitsValues(const Pack& pack, const ValueFields& fields) {
-  const uint32_t predicted = fields.residualBits ? packShape(pack.flags).predictable : kMhChildren;
-  for (uint32_t k = 0; k < kMhChildren; ++k) {
-    if (!hasValue(MhChild(childFlag(pack.flags, int(k))))) continue;
-    if (k == predicted ? signedBits(predictionResidual(pack, fields.shift)) > fields.residualBits
-                       : signedBits(pack.values[k] >> fields.shift) > fields.valueBits)
-      return false;
-  }
-  return true;
 }
 
 ValueFields fittedValues(const Pack& pack, bool prediction) {
@@ -148,30 +210,44 @@ uint64_t Layout::cost() const {
   return bits() + table.codes.size() * 8 * sizeof(FormatEntry) + (uint64_t(16) << longest);
 }
 
-Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
-              const std::vector<uint32_t>& shared, uint32_t addressUnit, bool prediction,
-              FormatTable table, LayoutPass pass) {
-  Layout layout;
-  layout.pass = pass;
-  layout.addressUnit = addressUnit;
+namespace {
+
+// Counts `layout` (its table and address unit set), or writes it as it was counted.
+void layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
+            const std::vector<uint32_t>& shared, bool prediction, Layout& layout, LayoutPass pass) {
+  const FormatTable& table = layout.table;
+  const uint32_t addressUnit = layout.addressUnit;
   // The table's formats by flags and shared mask, each group by the bits its formats take: the
   // first of a group that holds a pack is the cheapest.
   std::vector<PackFormat> formats;
-  std::unordered_map<uint32_t, std::vector<std::pair<PackFormat, uint32_t>>> groups;
+  std::vector<uint32_t> byBits;
   for (uint32_t c = 0; c < table.codes.size(); ++c) {
     formats.push_back(PackFormat::ofCode(table.codes[c], table.lengths[c]));
-    groups[formats[c].groupKey()].push_back({formats[c], c});
+    byBits.push_back(c);
   }
-  for (auto& [key, group] : groups)
-    std::stable_sort(group.begin(), group.end(),
-                     [](const auto& a, const auto& b) { return a.first.bits < b.first.bits; });
+  std::stable_sort(byBits.begin(), byBits.end(),
+                   [&](uint32_t a, uint32_t b) { return formats[a].bits < formats[b].bits; });
+  std::vector<FormatGroup> groups(kFormatGroups);
+  for (const uint32_t c : byBits) {
+    const PackFormat& g = formats[c];
+    FormatGroup& group = groups[g.groupKey()];
+    group.fits.push_back({g.bits, g.shift, g.valueBits, g.residualBits, g.pointerBits, g.sharedBits,
+                          g.symmetryMask});
+    group.index.push_back(c);
+  }
   const std::vector<uint32_t> codes = canonicalCodes(table.lengths);
   const uint32_t escapeBits = table.lengths.empty() ? 0 : table.lengths.back();
   const uint32_t escapeCode = table.lengths.empty() ? 0 : codes.back();
-  layout.uses.assign(table.codes.size() + 1, 0);
-  layout.table = std::move(table);
 
-  std::vector<uint64_t> placed(packs.size(), UINT64_MAX), treeBits(packs.size(), 0);
+  std::vector<uint64_t> placed(packs.size(), UINT64_MAX);
+  // Measured when counted: each pack's private tree's bits, and the table format it uses (its
+  // widths are the same when written): -1 explicit, -2 not yet found.
+  std::vector<uint64_t>& treeBits = layout.treeBits;
+  std::vector<int32_t>& chosen = layout.chosen;
+  if (pass == LayoutPass::Count) {
+    layout.uses.assign(table.codes.size() + 1, 0);
+    treeBits.assign(packs.size(), 0), chosen.assign(packs.size(), -2);
+  }
   // A pack's private tree (itself and, in k order, the private trees of its children that are
   // not shared) is laid out in one piece.
   const auto forPrivateChildren = [&](const Pack& pack, auto&& visit) {
@@ -181,9 +257,6 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
   };
   // Child k's pointer is a shared child's address, or the bits of the private trees between the
   // pack's end and child k's: 0 for the first, which needs no field.
-  // The table format each pack uses, found when it is measured and kept for when it is placed
-  // (its widths are the same then): -1 explicit, -2 not yet found.
-  std::vector<int32_t> chosen(packs.size(), -2);
   const auto encode = [&](uint32_t id) {
     const Pack& pack = packs[id];
     PackEncoding e;
@@ -210,24 +283,8 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       throw std::length_error("delta-dag: a pointer needs more than 54 bits");
     f.derive(escapeBits + f.explicitBits());
     e.ownCode = f.code();
-    // A table format holds the pack if its pointers are at least as wide and its values fit,
-    // predicted or not as it says; it is used where it takes fewer bits than the explicit one.
-    const auto holds = [&](const PackFormat& g) {
-      return g.shift <= f.shift && g.pointerBits >= f.pointerBits && g.sharedBits >= f.sharedBits &&
-             (f.symmetryMask & ~g.symmetryMask) == 0 &&
-             fitsValues(pack, {g.shift, g.valueBits, g.residualBits, 0});
-    };
-    if (chosen[id] == -2) {
-      chosen[id] = -1;
-      if (const auto group = groups.find(f.groupKey()); group != groups.end())
-        for (const auto& [g, c] : group->second) {
-          if (g.bits >= f.bits) break;
-          if (holds(g)) {
-            chosen[id] = int32_t(c);
-            break;
-          }
-        }
-    }
+    if (chosen[id] == -2)
+      chosen[id] = table.codes.empty() ? -1 : cheapestHolder(groups[f.groupKey()], needOf(pack, f));
     if (chosen[id] >= 0) e.format = formats[chosen[id]], e.index = chosen[id];
     return e;
   };
@@ -238,7 +295,8 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       bits += treeBits[child];
     });
     const PackEncoding e = encode(id);
-    if (pass == LayoutPass::Count) layout.ownCodes.push_back(e.ownCode);
+    if (table.codes.empty()) layout.ownCodes.push_back(e.ownCode);
+    ++layout.uses[e.index >= 0 ? e.index : table.codes.size()];
     treeBits[id] = bits + e.format.bits;
   };
 
@@ -246,7 +304,6 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
   const auto write = [&](const Pack& pack, const PackEncoding& e) {
     const PackFormat& f = e.format;
     const PackShape& shape = packShape(f.flags);
-    ++layout.uses[e.index >= 0 ? e.index : layout.table.codes.size()];
     if (e.index >= 0) {
       out.put(codes[e.index], f.headerBits());
     } else {
@@ -291,11 +348,11 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
       self(self, child);
     });
   };
-  // Counted, a private tree is placed where its measure says the written one would lie.
+  // Counted, a private tree is placed where its measure says the written one will lie.
   uint64_t counted = 0;
   const auto lay = [&](uint32_t id) {
-    measure(measure, id);
     if (pass == LayoutPass::Write) return place(place, id);
+    measure(measure, id);
     placed[id] = counted;
     counted += treeBits[id];
   };
@@ -303,18 +360,40 @@ Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vect
   for (const uint32_t id : shared) {
     const uint64_t position = pass == LayoutPass::Write ? out.position() : counted;
     const uint64_t padding = (0 - position) & unitMask;
-    if (pass == LayoutPass::Write)
+    if (pass == LayoutPass::Write) {
       out.put(0, uint32_t(padding));
-    else
+      layout.paddingBits += padding;
+    } else {
       counted += padding;
-    layout.paddingBits += padding;
-    layout.sharedPositions.push_back(position + padding);
+      layout.sharedPositions.push_back(position + padding);
+    }
     lay(id);
   }
   if (placed[rootPack] == UINT64_MAX) lay(rootPack);
-  layout.rootPosition = placed[rootPack];
-  layout.bitCount = pass == LayoutPass::Write ? out.position() : counted;
+  if (pass == LayoutPass::Count) {
+    layout.rootPosition = placed[rootPack];
+    layout.bitCount = counted;
+  } else if (out.position() != layout.bitCount || placed[rootPack] != layout.rootPosition) {
+    throw std::logic_error("delta-dag: a layout written otherwise than counted");
+  }
+}
+
+}  // namespace
+
+Layout countLayout(const std::vector<Pack>& packs, uint32_t rootPack,
+                   const std::vector<bool>& absolute, const std::vector<uint32_t>& shared,
+                   uint32_t addressUnit, bool prediction, FormatTable table) {
+  Layout layout;
+  layout.addressUnit = addressUnit;
+  layout.table = std::move(table);
+  layOut(packs, rootPack, absolute, shared, prediction, layout, LayoutPass::Count);
   return layout;
+}
+
+void writeLayout(const std::vector<Pack>& packs, uint32_t rootPack,
+                 const std::vector<bool>& absolute, const std::vector<uint32_t>& shared,
+                 bool prediction, Layout& layout) {
+  layOut(packs, rootPack, absolute, shared, prediction, layout, LayoutPass::Write);
 }
 
 FormatTable frequentFormats(std::vector<uint64_t> ownCodes, uint64_t minCount, uint32_t maxBits) {

@@ -5,7 +5,6 @@
 
 #include <array>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "schemes/delta-dag/delta_dag.h"
@@ -51,9 +50,6 @@ struct ValueFields {
 // The residual of the value that `pack` may predict (PackShape::predictable), its values shifted
 // right by `shift`: the value less its two neighbours'.
 int64_t predictionResidual(const Pack& pack, uint32_t shift);
-// Whether `pack`'s values fit `fields`, whose shift is at most their common trailing zeros: each
-// value (the predicted one's residual) as wide as its field at most.
-bool fitsValues(const Pack& pack, const ValueFields& fields);
 // The value fields of fewest bits for `pack`: its values' common trailing zeros as the shift, and
 // with `prediction` the predicted form where it takes 4 bits fewer or more.
 ValueFields fittedValues(const Pack& pack, bool prediction);
@@ -84,21 +80,24 @@ class BitWriter {
   uint64_t bits_ = 0;
 };
 
-// A layout written, or only counted: its formats and bits, with nothing written.
-enum class LayoutPass : uint8_t { Write, Count };
-
-// The packs written as private trees, each pack before the private trees of its children, the
-// first of which follows it with no pointer (delta_dag.h).
+// The packs laid out as private trees, each pack before the private trees of its children, the
+// first of which follows it with no pointer (delta_dag.h). A layout is counted first: each pack's
+// format and private tree measured, each shared pack placed, its bits known. Only the layout kept
+// is then written, as it was counted.
 struct Layout {
-  LayoutPass pass = LayoutPass::Write;
-  BitWriter out;
+  uint32_t addressUnit = 0;  // shared addresses count 2^addressUnit bits
+  FormatTable table;
   uint64_t bitCount = 0;
   uint64_t rootPosition = 0;
-  FormatTable table;
-  std::vector<uint64_t> ownCodes;         // counted: each pack's own format's code
-  std::vector<uint64_t> uses;             // packs per table format, then escapes
-  uint32_t addressUnit = 0;               // shared addresses count 2^addressUnit bits
   std::vector<uint64_t> sharedPositions;  // where each shared pack lies, in layout order
+  std::vector<uint64_t> ownCodes;         // without a table: each pack's own format's code
+  std::vector<uint64_t> uses;             // packs per table format, then escapes
+  // Each pack's table format (-1: its own, explicit) and the bits of its private tree: what
+  // writing takes from the count, so that it neither searches the table nor measures again.
+  std::vector<int32_t> chosen;
+  std::vector<uint64_t> treeBits;
+  // Written:
+  BitWriter out;
   uint64_t escapes = 0, headerBits = 0, valueBits = 0, pointerBits = 0, symmetryBits = 0,
            paddingBits = 0;
   uint64_t bits() const { return bitCount; }
@@ -116,14 +115,18 @@ std::vector<uint32_t> sharedOrder(const std::vector<Pack>& packs,
 // reference's address and pads each private tree by 2^u − 1 bits at most, (2^u − 1) / 2 on average.
 uint32_t cheapestAddressUnit(const std::vector<uint64_t>& positions,
                              const std::vector<uint32_t>& references, uint32_t maxUnit);
-// The packs of the DAG under `rootPack`; `absolute`: the packs pointed to by address, whose private
-// trees are laid out first in the order `shared`, each from a multiple of 2^addressUnit bits; the
-// formats of `table`. A counted layout has only bitCount, rootPosition, sharedPositions and
-// ownCodes.
-// `prediction`: packs may predict a value (fittedValues).
-Layout layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector<bool>& absolute,
-              const std::vector<uint32_t>& shared, uint32_t addressUnit, bool prediction,
-              FormatTable table, LayoutPass pass = LayoutPass::Write);
+// Counts the layout of the packs of the DAG under `rootPack`; `absolute`: the packs pointed to by
+// address, whose private trees are laid out first in the order `shared`, each from a multiple of
+// 2^addressUnit bits; the formats of `table`. `prediction`: packs may predict a value
+// (fittedValues).
+Layout countLayout(const std::vector<Pack>& packs, uint32_t rootPack,
+                   const std::vector<bool>& absolute, const std::vector<uint32_t>& shared,
+                   uint32_t addressUnit, bool prediction, FormatTable table);
+// Writes a counted layout (the same packs and arguments) into layout.out: each pack at the place
+// and in the format its count found.
+void writeLayout(const std::vector<Pack>& packs, uint32_t rootPack,
+                 const std::vector<bool>& absolute, const std::vector<uint32_t>& shared,
+                 bool prediction, Layout& layout);
 // A table of the formats that `ownCodes` (each pack's format code) hold at least `minCount` times
 // (the most frequent 2^maxBits − 1, fewer than kNoSymbol), with Huffman codes of at most maxBits
 // by count, the escape's by the packs left out.
