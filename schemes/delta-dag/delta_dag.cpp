@@ -376,15 +376,62 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options, const Reserv
   // Packs equal under a symmetry are one: each is stored turned to the orientation that compares
   // smallest, and its node reads it under the symmetry that turns it back (the first, where the
   // pack is itself symmetric: those that read it the same are its self-symmetries).
+  // Hash-consing reads, per pack, a slot of the index, then the hash and the pack it names, each
+  // a likely miss in the cache: packs whose children's packs are all found are made in a batch,
+  // their slots and then what the slots name prefetched before the first is looked up (the
+  // forest at 16K²: 7.7 M packs in 2.45 s one by one, 1.9 s in batches of 16 to 128 alike).
   std::vector<uint32_t> packOf(nodes.size(), kNoPack);
   std::vector<Symmetry> symmetryOf(nodes.size(), kIdentity);
   std::vector<Pack> packs;
   std::vector<uint8_t> selfSymmetries;
   HashConsIndex index;
   uint64_t nextReserve = kFirstReserve;  // before the store and the index double
+  struct Made {
+    Pack pack;  // turned to the orientation that compares smallest
+    uint64_t hash;
+    uint32_t node;
+    Symmetry read;      // the symmetry that turns it back
+    uint8_t readsSame;  // bit u: turned by u, the pack compares as the smallest
+  };
+  constexpr size_t kBatch = 32;
+  std::vector<Made> batch;
+  const auto findBatch = [&] {
+    if (options.sharing)
+      for (const Made& made : batch)
+        index.prefetchNamed(made.hash, [&](uint32_t id) { __builtin_prefetch(&packs[id]); });
+    for (const Made& made : batch) {
+      if (packs.size() == nextReserve) {
+        reserve(nextReserve * kFindingBytesPerPack,
+                fmt::format("delta-dag: hash-consing past {} distinct packs", nextReserve));
+        nextReserve *= 2;
+      }
+      const auto [id, added] =
+          options.sharing
+              ? index.findOrAdd(made.hash,
+                                [&](uint32_t other) { return packs[other] == made.pack; })
+              : std::pair{uint32_t(packs.size()), true};
+      if (added) {
+        packs.push_back(made.pack);
+        uint8_t self = 0;
+        for (Symmetry u = 0; u < kSymmetries; ++u)
+          if (made.readsSame >> u & 1)
+            self |= uint8_t(1u << kSymmetry.then[u][kSymmetry.inverse[made.read]]);
+        selfSymmetries.push_back(self);
+      }
+      packOf[made.node] = id, symmetryOf[made.node] = made.read;
+    }
+    batch.clear();
+  };
+  uint32_t batchStart = 0;  // the nodes before it have their packs
   for (uint32_t n = 0; n < nodes.size(); ++n) {
     const MhNode& node = nodes[n];
     if (!node.hasChildren()) continue;
+    const uint32_t children = uint32_t(MultiresHierarchy::childCount(node));
+    bool waits = false;  // on the pack of a child in the batch
+    for (uint32_t child = std::max(node.firstChild, batchStart); child < node.firstChild + children;
+         ++child)
+      waits |= nodes[child].hasChildren();
+    if (waits || batch.size() == kBatch) findBatch(), batchStart = n;
     Pack pack;
     uint32_t child = node.firstChild;
     for (int k = 0; k < kMhChildren; ++k) {
@@ -404,36 +451,19 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options, const Reserv
     }
     if (pack.flags == 0) continue;
     ++stats.treePacks;
-    Symmetry read = kIdentity;
-    uint8_t readsSame = 1;  // bit u: turned by u, the pack compares as the smallest
-    if (options.sharing && options.symmetry) {
-      Pack least = pack;
+    Made made{pack, 0, n, kIdentity, 1};
+    if (options.sharing && options.symmetry)
       for (Symmetry u = 1; u < kSymmetries; ++u) {
-        if (turnedFlags(pack.flags, u) > least.flags) continue;  // flags compare first
+        if (turnedFlags(pack.flags, u) > made.pack.flags) continue;  // flags compare first
         const Pack candidate = turned(pack, u, selfSymmetries);
-        if (candidate < least) least = candidate, read = u, readsSame = 0;
-        if (candidate == least) readsSame |= uint8_t(1u << u);
+        if (candidate < made.pack) made.pack = candidate, made.read = u, made.readsSame = 0;
+        if (candidate == made.pack) made.readsSame |= uint8_t(1u << u);
       }
-      pack = least;
-    }
-    if (packs.size() == nextReserve) {
-      reserve(nextReserve * kFindingBytesPerPack,
-              fmt::format("delta-dag: hash-consing past {} distinct packs", nextReserve));
-      nextReserve *= 2;
-    }
-    const auto [id, added] =
-        options.sharing
-            ? index.findOrAdd(pack.hash(), [&](uint32_t other) { return packs[other] == pack; })
-            : std::pair{uint32_t(packs.size()), true};
-    if (added) {
-      packs.push_back(pack);
-      uint8_t self = 0;
-      for (Symmetry u = 0; u < kSymmetries; ++u)
-        if (readsSame >> u & 1) self |= uint8_t(1u << kSymmetry.then[u][kSymmetry.inverse[read]]);
-      selfSymmetries.push_back(self);
-    }
-    packOf[n] = id, symmetryOf[n] = read;
+    made.hash = made.pack.hash();
+    if (options.sharing) index.prefetchSlot(made.hash);
+    batch.push_back(made);
   }
+  findBatch();
   stats.dagPacks = packs.size();
   ++stats.valuedNodes;  // the root
   uint32_t rootPack = packOf[root];

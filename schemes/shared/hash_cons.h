@@ -34,6 +34,22 @@ class HashConsIndex {
 
   size_t count() const { return hashes_.size(); }
 
+  // Hints for a findOrAdd(hash) to come, which reads hash's first slot, then the hash of the id
+  // it names and the caller's node of that id, each a likely miss in the cache. prefetchSlot
+  // brings the slot in; prefetchNamed, once it is there, the hash of the id it names, and
+  // calls `named` with that id (to bring in the node). Neither changes the index.
+  void prefetchSlot(uint64_t hash) const {
+    if (!slots_.empty()) __builtin_prefetch(&slots_[hash & (slots_.size() - 1)]);
+  }
+  template <class Named>
+  void prefetchNamed(uint64_t hash, Named&& named) const {
+    if (slots_.empty()) return;
+    if (const uint32_t slot = slots_[hash & (slots_.size() - 1)]; slot != 0) {
+      __builtin_prefetch(&hashes_[slot - 1]);
+      named(slot - 1);
+    }
+  }
+
  private:
   void grow() {
     slots_.assign(std::max<size_t>(1024, slots_.size() * 2), 0);

@@ -27,3 +27,21 @@ TEST_CASE("hash-consing gives equal nodes one id across growth and collisions", 
   CHECK(index.count() == 5000);
   CHECK(add(5000, 5000 % 7) == 5000);
 }
+
+TEST_CASE("prefetch hints name the id a lookup meets first, and change nothing", "[hash_cons]") {
+  HashConsIndex index;
+  std::vector<uint32_t> named;
+  const auto remember = [&](uint32_t id) { named.push_back(id); };
+  index.prefetchSlot(42);
+  index.prefetchNamed(42, remember);  // an empty index names nothing
+  CHECK(named.empty());
+  const auto same = [](uint32_t) { return true; };
+  CHECK(index.findOrAdd(42, same) == std::pair<uint32_t, bool>{0, true});
+  CHECK(index.findOrAdd(7, same) == std::pair<uint32_t, bool>{1, true});
+  index.prefetchNamed(7, remember);
+  index.prefetchNamed(42, remember);
+  index.prefetchNamed(43, remember);  // an empty slot
+  CHECK(named == std::vector<uint32_t>{1, 0});
+  CHECK(index.count() == 2);
+  CHECK(index.findOrAdd(42, same) == std::pair<uint32_t, bool>{0, false});
+}
