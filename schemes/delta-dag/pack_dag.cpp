@@ -190,7 +190,10 @@ uint32_t copyCheapShared(std::vector<Pack>& packs, const std::vector<uint8_t>& s
   // Parents' packs rebuilt after their children's, each copy of a pack turned the way its
   // reference reads it (a private pack of a copied pack is copied with it); the shared packs not
   // copied once each.
+  // Room for as many copies as packs, which the encode step reserved (delta_dag.cpp): growing
+  // the store moves it and faults its new pages in (the forest at 16K²: 2.1 M packs, 74 K copies).
   std::vector<Pack> rebuilt;
+  rebuilt.reserve(2 * packs.size());
   std::vector<uint32_t> rebuiltAs(packs.size(), UINT32_MAX);
   const auto rebuild = [&](auto& self, Pack pack) -> uint32_t {
     for (int k = 0; k < kMhChildren; ++k) {
