@@ -217,27 +217,29 @@ void layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector
             const std::vector<uint32_t>& shared, bool prediction, Layout& layout, LayoutPass pass) {
   const FormatTable& table = layout.table;
   const uint32_t addressUnit = layout.addressUnit;
-  // The table's formats by flags and shared mask, each group by the bits its formats take: the
-  // first of a group that holds a pack is the cheapest.
-  // A count reads only each format's bits, from an array that stays in the cache (the forest at
-  // 16K² has 47 K formats: 1 MB of them, 94 KB of bits).
   std::vector<PackFormat> formats;
-  std::vector<uint16_t> formatBits;
-  std::vector<uint32_t> byBits;
-  for (uint32_t c = 0; c < table.codes.size(); ++c) {
+  for (uint32_t c = 0; c < table.codes.size(); ++c)
     formats.push_back(PackFormat::ofCode(table.codes[c], table.lengths[c]));
-    formatBits.push_back(formats[c].bits);
-    byBits.push_back(c);
-  }
-  std::stable_sort(byBits.begin(), byBits.end(),
-                   [&](uint32_t a, uint32_t b) { return formats[a].bits < formats[b].bits; });
-  std::vector<FormatGroup> groups(kFormatGroups);
-  for (const uint32_t c : byBits) {
-    const PackFormat& g = formats[c];
-    FormatGroup& group = groups[g.groupKey()];
-    group.fits.push_back({g.bits, g.shift, g.valueBits, g.residualBits, g.pointerBits, g.sharedBits,
-                          g.symmetryMask});
-    group.index.push_back(c);
+  // What a count searches: the table's formats by flags and shared mask, each group by the bits
+  // its formats take (the first of a group that holds a pack is the cheapest), and each format's
+  // bits alone, an array that stays in the cache (the forest at 16K² has 47 K formats: 1 MB of
+  // them, 94 KB of bits).
+  std::vector<uint16_t> formatBits;
+  std::vector<FormatGroup> groups;
+  if (pass == LayoutPass::Count) {
+    std::vector<uint32_t> byBits;
+    for (uint32_t c = 0; c < formats.size(); ++c)
+      formatBits.push_back(formats[c].bits), byBits.push_back(c);
+    std::stable_sort(byBits.begin(), byBits.end(),
+                     [&](uint32_t a, uint32_t b) { return formatBits[a] < formatBits[b]; });
+    groups.resize(kFormatGroups);
+    for (const uint32_t c : byBits) {
+      const PackFormat& g = formats[c];
+      FormatGroup& group = groups[g.groupKey()];
+      group.fits.push_back({g.bits, g.shift, g.valueBits, g.residualBits, g.pointerBits,
+                            g.sharedBits, g.symmetryMask});
+      group.index.push_back(c);
+    }
   }
   const std::vector<uint32_t> codes = canonicalCodes(table.lengths);
   const uint32_t escapeBits = table.lengths.empty() ? 0 : table.lengths.back();
