@@ -5,25 +5,19 @@
 #include <algorithm>
 #include <bit>
 
-#include "schemes/delta-dag/pack_dag.h"
+#include "schemes/delta-dag/pack_finder.h"
 #include "schemes/delta-dag/pack_layout.h"
 #include "schemes/delta-dag/prefix_code.h"
-#include "schemes/shared/hash_cons.h"
 
 namespace sb::delta_dag {
 namespace {
 
-constexpr uint32_t kNoPack = UINT32_MAX;
 // A format enters the table if at least this many packs take it: at 4K² on the city, tangle and
 // forest, 8 gave the smallest layouts of 2, 3, 4, 6, 8, 12, 16 and 32 with 8-byte table entries,
 // and of 5, 6 and 8 with 5-byte ones (an escape costs about 30 bits); on the tangle at 16K², 8 and
 // 16 tie and 4 is 5 % larger.
 constexpr uint64_t kMinFormatUses = 8;
 
-static_assert(sizeof(Pack) == 40, "kFindingBytesPerPack counts 40 bytes a pack");
-// The first count of distinct packs at which hash-consing reserves (kFindingBytesPerPack), and
-// every power of two above it: where the store, the hashes and the slots double.
-constexpr uint64_t kFirstReserve = uint64_t(1) << 16;
 // Reserved once the packs are found and the hierarchy and the per-node arrays freed, per pack
 // beside the store: while oriented, its references, estimated tree bits, readings and frame
 // (4 + 8 + 16 + 1) with the store's room to double as readings split off (80); while copied,
@@ -31,14 +25,6 @@ constexpr uint64_t kFirstReserve = uint64_t(1) << 16;
 // and new id (4 + 4 + 8 + 1 + 4); while laid out, less (two counted layouts' formats and tree
 // bits, 12 each, the explicit count's own codes and the places, 8 each, and the output).
 constexpr uint64_t kLaterBytesPerPack = 4 + 8 + 16 + 1 + 2 * sizeof(Pack);
-
-// The relative value of a node holding interval [lo, hi] below a path that reconstructs `parent`.
-int32_t chooseValue(const KeyInterval& interval, uint32_t parent, ValueChoice choice) {
-  const int64_t lo = int64_t(interval.lo) - parent, hi = int64_t(interval.hi) - parent;
-  const int64_t value =
-      choice == ValueChoice::Simplest ? simplestIn(lo, hi) : int64_t(interval.middle()) - parent;
-  return int32_t(value);  // keys are at most +inf's, 0x7f800000: differences fit int32
-}
 
 }  // namespace
 
@@ -344,134 +330,33 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
 
 Encoded encode(MultiresHierarchy hierarchy, const Options& options, const ReserveMemory& reserve) {
   const std::vector<MhNode>& nodes = hierarchy.nodes;
-  Statistics stats;
-
-  // Top-down: each value relative to the key its parent's path reconstructs.
-  std::vector<uint32_t> keys(nodes.size());
-  std::vector<int32_t> values(nodes.size(), 0);
   const uint32_t root = hierarchy.root();
-  keys[root] = uint32_t(chooseValue(nodes[root].interval, 0, options.values));
-  for (uint32_t n = root + 1; n-- > 0;) {
-    const MhNode& node = nodes[n];
-    uint32_t child = node.firstChild;
-    for (int k = 0; k < kMhChildren; ++k) {
-      const MhChild kind = node.child(k);
-      if (kind == MhChild::None) continue;
-      keys[child] = keys[n];
-      if (hasValue(kind)) {
-        values[child] = chooseValue(nodes[child].interval, keys[n], options.values);
-        keys[child] += uint32_t(values[child]);
-      }
-      ++child;
-    }
+  const uint32_t rootKey = uint32_t(chooseValue(nodes[root].interval, 0, options.values));
+  PackFinder finder(options, reserve);
+  PackReference rootPack;
+  {
+    NodePacks tree(nodes.size());
+    chooseValues(nodes, rootKey, options.values, tree.values, [](uint32_t) { return true; });
+    for (uint32_t n = 0; n < nodes.size(); ++n)
+      if (nodes[n].hasChildren())
+        if (const std::optional<Pack> pack = finder.childrenPack(nodes[n], tree))
+          finder.queue(*pack, tree.pack[n], tree.symmetry[n]);
+    finder.find();
+    rootPack = {tree.pack[root], tree.symmetry[root]};
   }
-  const uint32_t rootKey = keys[root];
-  keys = {};
-
-  // Bottom-up: each inner node's pack, found among those stored or stored. A whole build's MH
-  // stores a child only where its interval misses its parent's, which holds the parent's key, so
-  // no value is 0; a hierarchy merged from crafted part files may break that rule (fuzzing found
-  // one). A child whose value is 0 then needs none (a leaf becomes nothing, a full node empty),
-  // and an inner child left without a pack becomes a leaf or nothing: the loader refuses a 0.
-  // Packs equal under a symmetry are one: each is stored turned to the orientation that compares
-  // smallest, and its node reads it under the symmetry that turns it back (the first, where the
-  // pack is itself symmetric: those that read it the same are its self-symmetries).
-  // Hash-consing reads, per pack, a slot of the index, then the hash and the pack it names, each
-  // a likely miss in the cache: packs whose children's packs are all found are made in a batch,
-  // their slots and then what the slots name prefetched before the first is looked up (the
-  // forest at 16K²: 7.7 M packs in 2.45 s one by one, 1.9 s in batches of 16 to 128 alike).
-  std::vector<uint32_t> packOf(nodes.size(), kNoPack);
-  std::vector<Symmetry> symmetryOf(nodes.size(), kIdentity);
-  std::vector<Pack> packs;
-  std::vector<uint8_t> selfSymmetries;
-  HashConsIndex index;
-  uint64_t nextReserve = kFirstReserve;  // before the store and the index double
-  struct Made {
-    Pack pack;  // turned to the orientation that compares smallest
-    uint64_t hash;
-    uint32_t node;
-    Symmetry read;      // the symmetry that turns it back
-    uint8_t readsSame;  // bit u: turned by u, the pack compares as the smallest
-  };
-  constexpr size_t kBatch = 32;
-  std::vector<Made> batch;
-  const auto findBatch = [&] {
-    if (options.sharing)
-      for (const Made& made : batch)
-        index.prefetchNamed(made.hash, [&](uint32_t id) { __builtin_prefetch(&packs[id]); });
-    for (const Made& made : batch) {
-      if (packs.size() == nextReserve) {
-        reserve(nextReserve * kFindingBytesPerPack,
-                fmt::format("delta-dag: hash-consing past {} distinct packs", nextReserve));
-        nextReserve *= 2;
-      }
-      const auto [id, added] =
-          options.sharing
-              ? index.findOrAdd(made.hash,
-                                [&](uint32_t other) { return packs[other] == made.pack; })
-              : std::pair{uint32_t(packs.size()), true};
-      if (added) {
-        packs.push_back(made.pack);
-        uint8_t self = 0;
-        for (Symmetry u = 0; u < kSymmetries; ++u)
-          if (made.readsSame >> u & 1)
-            self |= uint8_t(1u << kSymmetry.then[u][kSymmetry.inverse[made.read]]);
-        selfSymmetries.push_back(self);
-      }
-      packOf[made.node] = id, symmetryOf[made.node] = made.read;
-    }
-    batch.clear();
-  };
-  uint32_t batchStart = 0;  // the nodes before it have their packs
-  for (uint32_t n = 0; n < nodes.size(); ++n) {
-    const MhNode& node = nodes[n];
-    if (!node.hasChildren()) continue;
-    const uint32_t children = uint32_t(MultiresHierarchy::childCount(node));
-    bool waits = false;  // on the pack of a child in the batch
-    for (uint32_t child = std::max(node.firstChild, batchStart); child < node.firstChild + children;
-         ++child)
-      waits |= nodes[child].hasChildren();
-    if (waits || batch.size() == kBatch) findBatch(), batchStart = n;
-    Pack pack;
-    uint32_t child = node.firstChild;
-    for (int k = 0; k < kMhChildren; ++k) {
-      MhChild kind = node.child(k);
-      if (kind == MhChild::None) continue;
-      if (hasValue(kind)) {
-        ++stats.valuedNodes;
-        if (values[child] == 0) kind = kind == MhChild::Leaf ? MhChild::None : MhChild::Empty;
-      }
-      if (isInner(uint32_t(kind)) && packOf[child] == kNoPack)
-        kind = kind == MhChild::Full ? MhChild::Leaf : MhChild::None;
-      if (hasValue(kind)) pack.values[k] = values[child];
-      if (isInner(uint32_t(kind)))
-        pack.children[k] = packOf[child], pack.symmetries[k] = symmetryOf[child];
-      pack.flags |= uint8_t(uint32_t(kind) << (2 * k));
-      ++child;
-    }
-    if (pack.flags == 0) continue;
-    ++stats.treePacks;
-    Made made{pack, 0, n, kIdentity, 1};
-    if (options.sharing && options.symmetry)
-      for (Symmetry u = 1; u < kSymmetries; ++u) {
-        if (turnedFlags(pack.flags, u) > made.pack.flags) continue;  // flags compare first
-        const Pack candidate = turned(pack, u, selfSymmetries);
-        if (candidate < made.pack) made.pack = candidate, made.read = u, made.readsSame = 0;
-        if (candidate == made.pack) made.readsSame |= uint8_t(1u << u);
-      }
-    made.hash = made.pack.hash();
-    if (options.sharing) index.prefetchSlot(made.hash);
-    batch.push_back(made);
-  }
-  findBatch();
-  stats.dagPacks = packs.size();
-  ++stats.valuedNodes;  // the root
-  uint32_t rootPack = packOf[root];
-  const Symmetry rootSymmetry = symmetryOf[root];
-  values = {}, packOf = {}, symmetryOf = {};
-  index = HashConsIndex();
   const int levels = hierarchy.levels;
   hierarchy = {};
+  return encodeFound(std::move(finder).finish(), rootPack, rootKey, levels, options, reserve);
+}
+
+Encoded encodeFound(FoundPacks found, PackReference root, uint32_t rootKey, int levels,
+                    const Options& options, const ReserveMemory& reserve) {
+  std::vector<Pack>& packs = found.packs;
+  std::vector<uint8_t>& selfSymmetries = found.selfSymmetries;
+  Statistics& stats = found.statistics;
+  ++stats.valuedNodes;  // the root
+  uint32_t rootPack = root.pack;
+  const Symmetry rootSymmetry = root.symmetry;
   reserve(packs.size() * kLaterBytesPerPack,
           fmt::format("delta-dag: laying out {} distinct packs", packs.size()));
 

@@ -42,7 +42,8 @@ struct MhEncoding {
   // payload and nodes. Without `makeMerger` the merge joins the whole hierarchy and runs the
   // encode step on it (`mmh`): per node the hierarchy's 16 bytes and the encode step's arrays.
   // With it the scheme merges without ever holding the whole hierarchy (`mh`:
-  // partwiseMhMerger; `dag-mh`: dag_parts.h), and holds per node its share of the structure.
+  // partwiseMhMerger; `dag-mh`: dag_parts.h; `delta-dag`: delta_parts.h), and holds per node its
+  // share of the structure.
   struct Merge {
     std::function<std::unique_ptr<PartMerger>(const MapInfo&, const ParamValues&,
                                               uint32_t partSize)>

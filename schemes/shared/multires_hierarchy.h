@@ -139,6 +139,10 @@ class MhBuilder {
   // Room for `nodes` nodes in all, for a merge that counts them from its part files: a vector
   // left to grow doubles, holding up to twice the nodes' bytes, three times while it moves.
   void reserve(uint64_t nodes) { hierarchy_.nodes.reserve(nodes); }
+  // The nodes stored so far: in a builder of the levels above the parts, where the nodes of the
+  // part just consumed end in the whole hierarchy's order (a part's nodes are appended, then the
+  // groups its root completes are stored).
+  uint64_t storedNodes() const { return hierarchy_.nodes.size(); }
   // The map's hierarchy once every tile or part arrived (std::logic_error before).
   MultiresHierarchy finish();
   // A part builder's hierarchy once the part's tiles arrived (std::logic_error before).
