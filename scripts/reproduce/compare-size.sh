@@ -5,7 +5,8 @@
 # map (4·R² bytes). Some cells are capped for memory (this machine: 2 cores, 24 GiB, shared; no
 # cell may peak above about 16 GiB): `sm32` up to 16K² (4·R² bytes, which is the analytic row),
 # `openvdb` up to 16K², `mh`, `mmh`, `dag-mh` and `delta-dag` open
-# up to 8K² (a node per texel), the city open to 16K²; the caps are explained below and in the table. Also plots the
+# up to 8K² (a node per texel), the city open to 16K² (`delta-dag` to 32K², in parts); the caps are
+# explained below and in the table. Also plots the
 # same cells (scripts/plot.py) into results/reproduce/compare-size/plots.
 #   scripts/reproduce/compare-size.sh [--max-resolution 256K] [sweep options]
 # shellcheck source=scripts/reproduce/common.sh
@@ -34,6 +35,11 @@ sweep --schemes mh,mmh,dag-mh,delta-dag --scenes "$scenes" --modes open \
 city_open_16k=$(capped 16K 16K)
 [ -z "$city_open_16k" ] || sweep --schemes mh,mmh,dag-mh,delta-dag --scenes city:full \
   --modes open --resolutions "$city_open_16k"
+# And at 32K² for delta-dag alone, in parts of 8K²: its merge holds one part at a time (3.6 GiB),
+# its MH part files take 12 GB; the other MH schemes' merges hold the whole hierarchy or more.
+city_open_32k=$(capped 32K 32K)
+[ -z "$city_open_32k" ] || sweep_part_size=8K sweep --schemes delta-dag --scenes city:full \
+  --modes open --resolutions "$city_open_32k"
 sweep --schemes sm-zstd --scenes "$scenes" --modes closed,open \
   --resolutions "$(resolutions 4K)"
 sweep --schemes compressed-sm --scenes "$scenes" --modes closed,open --resolutions "$(resolutions 4K)"
