@@ -27,12 +27,11 @@ class DeltaDagPartMerger final : public PartMerger {
     expectPart("delta-dag", next_, partSize_, part);
     context_ = &context;
     if (next_ == 0) context.phase(upper_ ? "encode" : "merge");
-    MhBuilder::PartHierarchy hierarchy = readMhPart(payload, part, "delta-dag");
     if (!upper_) {
-      upperBuilder_.consume(part, {{}, hierarchy.root});
+      upperBuilder_.consume(part, {{}, readMhPartRoot(payload, part, "delta-dag")});
       parts_[part.index].upperEnd = upperBuilder_.storedNodes();
     } else {
-      findPart(parts_[part.index], partTree(std::move(hierarchy)));
+      findPart(parts_[part.index], partTree(readMhPart(payload, part, "delta-dag")));
       findUpper(parts_[part.index].upperEnd);
     }
     ++next_;

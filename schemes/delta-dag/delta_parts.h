@@ -1,7 +1,8 @@
 // delta-dag's merge of parts without the whole hierarchy. The MH-family part payloads
 // (mh_parts.h) are read twice:
-//   1. each part's root goes to the builder of the levels above the parts (as a whole build
-//      joins tile roots), which then choose their values top-down, down to each part's root;
+//   1. each part's root alone (readMhPartRoot) goes to the builder of the levels above the parts
+//      (as a whole build joins tile roots), which then choose their values top-down, down to
+//      each part's root;
 //   2. each part's values are chosen below its root's key and its packs found (pack_finder.h),
 //      and the levels above are found as far as the whole hierarchy orders their nodes before
 //      the next part's.

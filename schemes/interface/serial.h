@@ -72,6 +72,8 @@ class ByteReader {
     return values;
   }
   size_t remaining() const { return bytes_.size() - offset_; }
+  // Passes over `bytes` bytes unread (FormatError naming `what` where fewer remain).
+  void skip(size_t bytes, const char* what) { take(bytes, what); }
   // Throws unless every byte was consumed: trailing bytes mean a corrupted or foreign file.
   void expectEnd() const;
 

@@ -79,6 +79,15 @@ uint64_t maxPartNodes(int levels) {
   return std::min<uint64_t>(nodes, UINT32_MAX);
 }
 
+// Throws unless `interval` holds depths' keys, lo ≤ hi (`what` names its node).
+void checkKeys(const KeyInterval& interval, const std::string& prefix, const std::string& what) {
+  if (interval.lo > interval.hi || interval.hi > kInfinityKey)
+    throw FormatError(
+        fmt::format("{}: {} has the key interval [{:#x}, {:#x}], not depths with "
+                    "lo ≤ hi",
+                    prefix, what, interval.lo, interval.hi));
+}
+
 // The checks of readMhPart once the nodes are read.
 class PartValidator {
  public:
@@ -108,9 +117,7 @@ class PartValidator {
   }
 
   void checkNode(uint64_t n, const NodeRecord& node) const {
-    if (node.interval.lo > node.interval.hi || node.interval.hi > kInfinityKey)
-      fail(fmt::format("{} has the key interval [{:#x}, {:#x}], not depths with lo ≤ hi", name(n),
-                       node.interval.lo, node.interval.hi));
+    checkKeys(node.interval, prefix_, name(n));
     if (!node.childFlags && node.firstChild != 0)
       fail(fmt::format("{} has no children but a first child {}", name(n), node.firstChild));
   }
@@ -308,25 +315,49 @@ void writeMhPart(ByteWriter& out, const MapPart& part, const MhBuilder::PartHier
   }
 }
 
-MhBuilder::PartHierarchy readMhPart(ByteReader& in, const MapPart& part,
-                                    const std::string& scheme) {
-  const std::string prefix = fmt::format("{} part {}", scheme, part.index);
+namespace {
+
+// A payload's header up to its node count: the part it belongs to, its root and how many nodes
+// follow (at most what the part holds, and all of them there).
+struct PartHeader {
+  MhBuilder::Pending root;
+  uint64_t count = 0;
+};
+PartHeader readPartHeader(ByteReader& in, const MapPart& part, const std::string& prefix) {
   const uint64_t index = in.get<uint64_t>("MH part index");
   const uint32_t size = in.get<uint32_t>("MH part size");
   if (index != part.index || size != part.size)
     throw FormatError(fmt::format("{}: the payload belongs to part {} of side {}, not of side {}",
                                   prefix, index, size, part.size));
-  MhBuilder::PartHierarchy hierarchy;
   const NodeRecord root = getRecord(in, "MH part root");
-  hierarchy.root = {root.interval, root.firstChild, root.childFlags};
   const uint64_t count = in.get<uint64_t>("MH part node count");
-  const int levels = std::countr_zero(part.size);
-  if (count > maxPartNodes(levels))
+  if (count > maxPartNodes(std::countr_zero(part.size)))
     throw FormatError(
         fmt::format("{}: {} nodes, more than a {}² part holds", prefix, count, part.size));
   if (count > in.remaining() / kMhPartNodeBytes)
     throw FormatError(fmt::format("{}: {} nodes take {} bytes, {} follow", prefix, count,
                                   count * kMhPartNodeBytes, in.remaining()));
+  return {{root.interval, root.firstChild, root.childFlags}, count};
+}
+
+}  // namespace
+
+MhBuilder::Pending readMhPartRoot(ByteReader& in, const MapPart& part, const std::string& scheme) {
+  const std::string prefix = fmt::format("{} part {}", scheme, part.index);
+  const PartHeader header = readPartHeader(in, part, prefix);
+  checkKeys(header.root.interval, prefix, "the part's root");
+  in.skip(header.count * kMhPartNodeBytes, "MH part nodes");
+  return header.root;
+}
+
+MhBuilder::PartHierarchy readMhPart(ByteReader& in, const MapPart& part,
+                                    const std::string& scheme) {
+  const std::string prefix = fmt::format("{} part {}", scheme, part.index);
+  const PartHeader header = readPartHeader(in, part, prefix);
+  const int levels = std::countr_zero(part.size);
+  const uint64_t count = header.count;
+  MhBuilder::PartHierarchy hierarchy;
+  hierarchy.root = header.root;
   hierarchy.nodes.resize(count);
   for (MhNode& node : hierarchy.nodes) {
     const NodeRecord record = getRecord(in, "MH part node");

@@ -30,6 +30,10 @@ void writeMhPart(ByteWriter& out, const MapPart& part, const MhBuilder::PartHier
 // parent, no deeper than the texels, child flags matching the children, intervals of depth keys
 // with lo ≤ hi. Throws FormatError naming `scheme`, the part and what is wrong.
 MhBuilder::PartHierarchy readMhPart(ByteReader& in, const MapPart& part, const std::string& scheme);
+// A payload's root alone, its header checked as readMhPart checks it and its nodes passed over
+// unread: for a merge's pass that needs only the parts' roots (delta_parts.h), whose next pass
+// reads every payload whole with readMhPart.
+MhBuilder::Pending readMhPartRoot(ByteReader& in, const MapPart& part, const std::string& scheme);
 
 // How an MH-family scheme gets from the hierarchy to its structure, and what that costs.
 struct MhEncoding {

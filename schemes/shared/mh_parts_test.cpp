@@ -79,7 +79,7 @@ void writeFile(const std::string& path, const std::vector<uint8_t>& bytes) {
 }
 
 // Byte offsets in a payload (mh_parts.h).
-constexpr size_t kSizeAt = 8, kRootFlagsAt = 24, kCountAt = 25, kNodesAt = 33;
+constexpr size_t kSizeAt = 8, kRootAt = 12, kRootFlagsAt = 24, kCountAt = 25, kNodesAt = 33;
 size_t nodeAt(size_t n) {
   return kNodesAt + n * kMhPartNodeBytes;
 }
@@ -202,6 +202,60 @@ TEST_CASE("truncated and crafted part payloads are refused and the merge goes on
     CHECK(answers(*finishMerge(*merger, 32, payloads), map) ==
           answers(*map.build(scheme, {}, 16), map));
   }
+}
+
+// delta-dag's merge reads only the parts' roots in its first pass (readMhPartRoot) and every node
+// in its second: a truncated payload is refused in either, a damaged root in the first, damaged
+// nodes in the second, with the part named, and the merge goes on to the whole build's answers.
+TEST_CASE("a merge reading the parts' roots first refuses damaged nodes in its second pass",
+          "[mh][parts][format]") {
+  const SyntheticMap map = SyntheticMap::random(64, DepthMode::Closed, 7);
+  const SchemeInfo& scheme = findScheme("delta-dag");
+  const auto payloads = partPayloads(scheme, map, 16, 32);
+  const std::vector<uint8_t>& valid = payloads[2];
+  const uint64_t count = peek<uint64_t>(valid, kCountAt);
+  REQUIRE(count > 8);
+  auto merger = mergerFor(scheme, map, 16, 32);
+  NullBuildContext context;
+  add(*merger, 0, 32, payloads[0]);
+  add(*merger, 1, 32, payloads[1]);
+  const auto refusal = [&](std::span<const uint8_t> bytes) {
+    try {
+      add(*merger, 2, 32, bytes);
+    } catch (const FormatError& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  for (size_t length = 0; length < valid.size(); ++length) {
+    INFO("first pass, truncated to " << length << " bytes");
+    CHECK_THROWS_AS(add(*merger, 2, 32, std::span(valid).first(length)), FormatError);
+  }
+  std::vector<uint8_t> lo = valid;
+  poke(lo, nodeAt(0), peek<uint32_t>(lo, nodeAt(0) + 4) + 1);
+  std::vector<uint8_t> rootLo = valid;
+  poke(rootLo, kRootAt, peek<uint32_t>(rootLo, kRootAt + 4) + 1);  // lo above hi
+  CHECK_THAT(refusal(rootLo), Catch::Contains("delta-dag part 2: the part's root"));
+  add(*merger, 2, 32, valid);
+  add(*merger, 3, 32, payloads[3]);
+  REQUIRE(merger->anotherPass(context));
+  add(*merger, 0, 32, payloads[0]);
+  add(*merger, 1, 32, payloads[1]);
+  for (size_t length = 0; length < valid.size(); ++length) {
+    INFO("second pass, truncated to " << length << " bytes");
+    CHECK_THROWS_AS(add(*merger, 2, 32, std::span(valid).first(length)), FormatError);
+  }
+  std::vector<uint8_t> childless = valid;
+  childless[kRootFlagsAt] = 0;
+  for (const auto& [what, bytes] :
+       {std::pair{"lo above hi", lo}, {"a childless root", childless}}) {
+    INFO(what);
+    CHECK_THAT(refusal(bytes), Catch::Contains("delta-dag part 2: "));
+  }
+  add(*merger, 2, 32, valid);
+  add(*merger, 3, 32, payloads[3]);
+  CHECK_FALSE(merger->anotherPass(context));
+  CHECK(answers(*merger->finish(context), map) == answers(*map.build(scheme, {}, 16), map));
 }
 
 // Flipped bits that still form a valid tree merge into a structure that answers other depths:
