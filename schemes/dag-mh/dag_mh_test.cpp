@@ -457,12 +457,7 @@ TEST_CASE("dag-mh: the scheme answers inside the intervals for every parameter",
 TEST_CASE("dag-mh: a merge of parts stores what the whole build stores and answers alike",
           "[dag-mh][parts]") {
   const SchemeInfo& scheme = findScheme("dag-mh");
-  SyntheticMap blocky = SyntheticMap::random(64, DepthMode::Closed, 3);
-  for (uint32_t j = 0; j < 64; ++j)
-    for (uint32_t i = 0; i < 64; ++i) {
-      const size_t at = j * 64 + i, block = (j / 8) * 64 + (i / 8) * 8;
-      blocky.lo[at] = blocky.lo[block], blocky.hi[at] = blocky.hi[block];
-    }
+  const SyntheticMap blocky = SyntheticMap::blocky(64, DepthMode::Closed, 3, 8);
   for (const SyntheticMap& map : {SyntheticMap::random(64, DepthMode::Open, 31),
                                   SyntheticMap::random(64, DepthMode::Static, 32), blocky}) {
     std::vector<Query> queries;

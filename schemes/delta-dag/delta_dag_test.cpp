@@ -328,12 +328,7 @@ TEST_CASE("the encode step reserves memory as it finds packs, and stops where re
 // which orders the hierarchy's nodes), with every option that changes how packs are found.
 TEST_CASE("a merge of parts writes the whole build's bytes", "[delta-dag][parts]") {
   const SchemeInfo& scheme = findScheme("delta-dag");
-  SyntheticMap blocky = SyntheticMap::random(64, DepthMode::Closed, 3);
-  for (uint32_t j = 0; j < 64; ++j)
-    for (uint32_t i = 0; i < 64; ++i) {
-      const size_t at = j * 64 + i, block = (j / 8) * 64 + (i / 8) * 8;
-      blocky.lo[at] = blocky.lo[block], blocky.hi[at] = blocky.hi[block];
-    }
+  const SyntheticMap blocky = SyntheticMap::blocky(64, DepthMode::Closed, 3, 8);
   const std::vector<SyntheticMap> maps = {SyntheticMap::random(64, DepthMode::Open, 31),
                                           SyntheticMap::random(64, DepthMode::Static, 32), blocky,
                                           SyntheticMap::uniform(64, 0.25f, 0.75f)};

@@ -76,6 +76,19 @@ struct SyntheticMap {
     return map;
   }
 
+  // random()'s map with each square of `block`² texels taking the depths of its first texel, so
+  // that subtrees of that size repeat whole (parts whose trees are small below their roots).
+  static SyntheticMap blocky(uint32_t resolution, DepthMode mode, uint64_t seed, uint32_t block) {
+    SyntheticMap map = random(resolution, mode, seed);
+    for (uint32_t j = 0; j < resolution; ++j)
+      for (uint32_t i = 0; i < resolution; ++i) {
+        const size_t at = size_t(j) * resolution + i,
+                     first = size_t(j / block * block) * resolution + i / block * block;
+        map.lo[at] = map.lo[first], map.hi[at] = map.hi[first];
+      }
+    return map;
+  }
+
   // Every texel [lo, hi], closed mode.
   static SyntheticMap uniform(uint32_t resolution, float lo, float hi) {
     SyntheticMap map{resolution, DepthMode::Closed, {}, {}};
