@@ -5,7 +5,10 @@
 #include <optional>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 #include "schemes/delta-dag/pack_finder.h"
+#include "schemes/interface/serial.h"
 #include "schemes/shared/mh_parts.h"
 
 namespace sb::delta_dag {
@@ -27,12 +30,21 @@ class DeltaDagPartMerger final : public PartMerger {
     expectPart("delta-dag", next_, partSize_, part);
     context_ = &context;
     if (next_ == 0) context.phase(upper_ ? "encode" : "merge");
+    PartRoot& root = parts_[part.index];
     if (!upper_) {
-      upperBuilder_.consume(part, {{}, readMhPartRoot(payload, part, "delta-dag")});
-      parts_[part.index].upperEnd = upperBuilder_.storedNodes();
+      root.first = readMhPartRoot(payload, part, "delta-dag");
+      upperBuilder_.consume(part, {{}, root.first});
+      root.upperEnd = upperBuilder_.storedNodes();
     } else {
-      findPart(parts_[part.index], partTree(readMhPart(payload, part, "delta-dag")));
-      findUpper(parts_[part.index].upperEnd);
+      MhBuilder::PartHierarchy hierarchy = readMhPart(payload, part, "delta-dag");
+      const MhBuilder::Pending& again = hierarchy.root;
+      if (again.interval.lo != root.first.interval.lo ||
+          again.interval.hi != root.first.interval.hi || again.childFlags != root.first.childFlags)
+        throw FormatError(fmt::format(
+            "delta-dag part {}: its root is not the one the first pass read (the file changed)",
+            part.index));
+      findPart(root, partTree(std::move(hierarchy)));
+      findUpper(root.upperEnd);
     }
     ++next_;
   }
@@ -76,6 +88,7 @@ class DeltaDagPartMerger final : public PartMerger {
 
  private:
   struct PartRoot {
+    MhBuilder::Pending first;    // as the first pass read it
     uint64_t upperEnd = 0;       // where the part's nodes end among the levels above
     uint32_t key = 0;            // the key its root reconstructs
     uint32_t node = UINT32_MAX;  // its root among the levels above (if stored there)

@@ -206,7 +206,8 @@ TEST_CASE("truncated and crafted part payloads are refused and the merge goes on
 
 // delta-dag's merge reads only the parts' roots in its first pass (readMhPartRoot) and every node
 // in its second: a truncated payload is refused in either, a damaged root in the first, damaged
-// nodes in the second, with the part named, and the merge goes on to the whole build's answers.
+// nodes or another root in the second, with the part named, and the merge goes on to the whole
+// build's answers.
 TEST_CASE("a merge reading the parts' roots first refuses damaged nodes in its second pass",
           "[mh][parts][format]") {
   const SyntheticMap map = SyntheticMap::random(64, DepthMode::Closed, 7);
@@ -247,6 +248,14 @@ TEST_CASE("a merge reading the parts' roots first refuses damaged nodes in its s
   }
   std::vector<uint8_t> childless = valid;
   childless[kRootFlagsAt] = 0;
+  // A valid payload, but not the one the first pass read: its root's interval narrower.
+  std::vector<uint8_t> changed = valid;
+  const uint32_t rootLoKey = peek<uint32_t>(changed, kRootAt),
+                 rootHiKey = peek<uint32_t>(changed, kRootAt + 4);
+  REQUIRE(rootLoKey > 0);
+  rootHiKey > rootLoKey ? poke(changed, kRootAt + 4, rootLoKey)
+                        : poke(changed, kRootAt, rootLoKey - 1);
+  CHECK_THAT(refusal(changed), Catch::Contains("delta-dag part 2: its root is not the one"));
   for (const auto& [what, bytes] :
        {std::pair{"lo above hi", lo}, {"a childless root", childless}}) {
     INFO(what);
