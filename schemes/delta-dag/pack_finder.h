@@ -60,7 +60,7 @@ struct NodePacks {
 struct FoundPacks {
   std::vector<Pack> packs;
   std::vector<uint8_t> selfSymmetries;
-  Statistics statistics;  // valued nodes and tree packs counted
+  Statistics statistics;  // valued nodes, tree packs and distinct packs counted
 };
 
 // Hash-consing of packs, children first. Packs equal under a symmetry are one: each is stored
