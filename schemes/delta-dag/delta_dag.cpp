@@ -337,10 +337,7 @@ Encoded encode(MultiresHierarchy hierarchy, const Options& options, const Reserv
   {
     NodePacks tree(nodes.size());
     chooseValues(nodes, rootKey, options.values, tree.values, [](uint32_t) { return true; });
-    for (uint32_t n = 0; n < nodes.size(); ++n)
-      if (nodes[n].hasChildren())
-        if (const std::optional<Pack> pack = finder.childrenPack(nodes[n], tree))
-          finder.queue(*pack, tree.pack[n], tree.symmetry[n]);
+    finder.queueTree(nodes, tree);
     finder.find();
     rootPack = {tree.pack[root], tree.symmetry[root]};
   }

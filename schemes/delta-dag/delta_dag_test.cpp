@@ -1,8 +1,7 @@
 // delta-dag against independent answers: the simplest number of an interval by brute force, every
-// texel's key inside its interval on seeded maps, sharing on maps built to repeat, the structure
-// read back from its bytes answering as built, and a merge of parts writing the whole build's
-// bytes. (The correctness matrix and the interface tests check it like every scheme; these pin
-// what is its own.)
+// texel's key inside its interval on seeded maps, sharing on maps built to repeat, and the
+// structure read back from its bytes answering as built. (The correctness matrix and the
+// interface tests check it like every scheme; these pin what is its own.)
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -321,32 +320,6 @@ TEST_CASE("the encode step reserves memory as it finds packs, and stops where re
                                         throw std::runtime_error(std::string(what));
                                       }),
                     expected.front());
-}
-
-// The merge of parts never holds the whole hierarchy (delta_parts.h), yet finds the packs in the
-// whole build's order: the structure must be the whole build's byte for byte (tiles of one size,
-// which orders the hierarchy's nodes), with every option that changes how packs are found.
-TEST_CASE("a merge of parts writes the whole build's bytes", "[delta-dag][parts]") {
-  const SchemeInfo& scheme = findScheme("delta-dag");
-  const SyntheticMap blocky = SyntheticMap::blocky(64, DepthMode::Closed, 3, 8);
-  const std::vector<SyntheticMap> maps = {SyntheticMap::random(64, DepthMode::Open, 31),
-                                          SyntheticMap::random(64, DepthMode::Static, 32), blocky,
-                                          SyntheticMap::uniform(64, 0.25f, 0.75f)};
-  const std::vector<Params> options = {{},
-                                       {{"addresses", "found"}},
-                                       {{"symmetry", "none"}},
-                                       {{"sharing", "tree"}},
-                                       {{"values", "middle"}}};
-  for (const SyntheticMap& map : maps)
-    for (const Params& params : options)
-      for (const uint32_t partSize : {8u, 16u, 32u}) {
-        INFO(toString(map.mode) << " parts of " << partSize << " option "
-                                << (params.empty() ? "none" : params.begin()->second));
-        ByteWriter whole, merged;
-        map.build(scheme, params, 8)->save(whole);
-        map.buildInParts(scheme, params, 8, partSize)->save(merged);
-        CHECK(merged.bytes() == whole.bytes());
-      }
 }
 
 TEST_CASE("repeated subtrees are stored once, and simplest values find more of them",

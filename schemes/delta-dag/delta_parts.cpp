@@ -104,10 +104,7 @@ class DeltaDagPartMerger final : public PartMerger {
       throw std::logic_error("delta-dag: a part's root with children is missing above the parts");
     NodePacks packs(tree.size());
     chooseValues(tree, root.key, options_.values, packs.values, [](uint32_t) { return true; });
-    for (uint32_t n = 0; n + 1 < tree.size(); ++n)
-      if (tree[n].hasChildren())
-        if (const std::optional<Pack> pack = finder_->childrenPack(tree[n], packs))
-          finder_->queue(*pack, packs.pack[n], packs.symmetry[n]);
+    finder_->queueTree(std::span(tree).first(tree.size() - 1), packs);
     root.pack = finder_->childrenPack(top, packs);
     finder_->find();  // before `packs` goes
   }

@@ -85,6 +85,14 @@ class PackFinder {
   // Queues `pack`: `id` and `symmetry` receive the stored pack and its reading once it is found
   // (find), and must stay in place until then.
   void queue(const Pack& pack, uint32_t& id, Symmetry& symmetry);
+  // Queues the packs of `nodes` in their order (children before parents), their children's
+  // values and packs in `tree`, which receives theirs.
+  void queueTree(std::span<const MhNode> nodes, NodePacks& tree) {
+    for (uint32_t n = 0; n < nodes.size(); ++n)
+      if (nodes[n].hasChildren())
+        if (const std::optional<Pack> pack = childrenPack(nodes[n], tree))
+          queue(*pack, tree.pack[n], tree.symmetry[n]);
+  }
   // Finds every queued pack.
   void find();
   // The packs, every queued one found.
