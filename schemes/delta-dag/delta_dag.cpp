@@ -146,7 +146,7 @@ SizeBreakdown DeltaDag::size() const {
   // codes' lengths, the escape's; the packs' bits (whole bytes; the padding is not part of the
   // structure); what loading derives.
   return {{"root", 1 + 1 + 4 + 8 + 1},
-          {"pack formats", formats_.size() * sizeof(FormatEntry) + 1},
+          {"pack formats", storedBytes(table_) + 1},
           {"packs", (bits_ + 7) / 8},
           {"format decode table", decode_.size() * sizeof(uint16_t)},
           {"skip table", skip_.size() * sizeof(uint32_t)},
@@ -160,10 +160,15 @@ void DeltaDag::save(ByteWriter& out) const {
   out.put<uint64_t>(rootPosition_);
   out.put<uint8_t>(uint8_t(addressUnit_));
   std::vector<FormatEntry> entries;
-  for (size_t c = 0; c < table_.codes.size(); ++c)
+  std::vector<uint32_t> narrowed;
+  for (size_t c = 0; c < table_.codes.size(); ++c) {
+    const uint64_t code = table_.codes[c];
     entries.push_back(
-        FormatEntry::of(table_.codes[c] | uint64_t(table_.lengths[c]) << kFormatCodeBits));
+        FormatEntry::of((code & kEntryCodeMask) | uint64_t(table_.lengths[c]) << kFormatCodeBits));
+    if (code >> kFormatCodeBits != 0) narrowed.push_back(narrowedFormat(uint32_t(c), code));
+  }
   out.putArray(std::span<const FormatEntry>(entries));
+  out.putArray(std::span<const uint32_t>(narrowed));
   out.put<uint8_t>(uint8_t(table_.lengths.empty() ? 0 : table_.lengths.back()));
   out.put<uint64_t>(bits_);
   out.putArray(std::span<const uint8_t>(bytes_.data(), (bits_ + 7) / 8));
@@ -193,6 +198,9 @@ std::string invalidFormat(const PackFormat& f) {
     return fmt::format("has {}-bit pointers", f.pointerBits);
   if (f.sharedMask ? f.sharedBits == 0 || f.sharedBits > kMaxPointerBits : f.sharedBits != 0)
     return fmt::format("has {}-bit shared addresses", f.sharedBits);
+  for (int k = 0; k < kMhChildren; ++k)
+    if ((f.sharedMask >> k & 1) && (f.pointerWidth[k] == 0 || f.pointerWidth[k] > f.sharedBits))
+      return fmt::format("gives shared child {} a {}-bit address", k, f.pointerWidth[k]);
   return {};
 }
 
@@ -228,12 +236,28 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
                                   kMaxAddressUnit));
   FormatTable table;
   const std::vector<FormatEntry> entries = in.getArray<FormatEntry>("pack formats");
+  std::vector<uint32_t> narrowings(entries.size(), 0);
+  const std::vector<uint32_t> narrowed = in.getArray<uint32_t>("narrowed pack formats");
+  for (size_t n = 0; n < narrowed.size(); ++n) {
+    const uint32_t c = narrowed[n] & 0xffff;
+    if (c >= entries.size() || (n > 0 && c <= (narrowed[n - 1] & 0xffff)) || narrowed[n] >> 16 == 0)
+      throw FormatError(fmt::format(
+          "delta-dag: narrowed pack format {} ({:#x}) is not a narrowing of a table format after "
+          "the last one's",
+          n, narrowed[n]));
+    narrowings[c] = narrowed[n] >> 16;
+  }
   for (size_t c = 0; c < entries.size(); ++c) {
     const uint64_t entry = entries[c].value();
-    const uint64_t code = entry & ((uint64_t(1) << kFormatCodeBits) - 1);
-    const std::string invalid = invalidFormat(PackFormat::ofCode(code, 0));
+    const uint64_t code = (entry & kEntryCodeMask) | uint64_t(narrowings[c]) << kFormatCodeBits;
+    const PackFormat format = PackFormat::ofCode(code, 0);
+    const std::string invalid = invalidFormat(format);
     if (!invalid.empty())
       throw FormatError(fmt::format("delta-dag: pack format {} ({:#x}) {}", c, entry, invalid));
+    if (format.code() != code)
+      throw FormatError(fmt::format(
+          "delta-dag: pack format {} ({:#x}) narrows the address of a child that is not shared", c,
+          code));
     if (entry >> kFormatCodeBits > kMaxCodeBits)
       throw FormatError(fmt::format("delta-dag: pack format {} ({:#x}) has a {}-bit code", c, entry,
                                     entry >> kFormatCodeBits));
@@ -400,8 +424,9 @@ Encoded encodeFound(FoundPacks found, PackReference root, uint32_t rootKey, int 
   const uint32_t maxBits =
       std::min<uint32_t>(kMaxCodeBits, std::bit_width(best.bits() / (64 * 16)) - 1);
   if (options.formatTable && best.bits() >= 64 * 16 * 16) {
-    keepSmaller(countLayout(packs, rootPack, absolute, shared, unit, options.prediction,
-                            frequentFormats(std::move(best.ownCodes), kMinFormatUses, maxBits)));
+    keepSmaller(countLayout(
+        packs, rootPack, absolute, shared, unit, options.prediction,
+        frequentFormats(std::move(best.ownCodes), kMinFormatUses, maxBits, options.sharedWidths)));
     if (!best.table.codes.empty())
       keepSmaller(countLayout(packs, rootPack, absolute, shared, unit, options.prediction,
                               refitted(best, maxBits)));

@@ -19,7 +19,7 @@
 //   symmetry mask 4 bits  only if turned: bit k, child k's reference carries a symmetry
 //   pointer bits 6 bits   if two or more inner children are private (not shared): the width of
 //                         the pointer of each private child but the first
-//   shared bits  6 bits   if one is shared: the width of a shared child's address
+//   shared bits  6 bits   if one is shared: the width of every shared child's address
 //   predicted    1 bit    only if exactly three children hold values: 1 if one is predicted
 //   residual bits 4 bits  only if predicted: the width of the predicted value's field (below)
 //   then, child by child in k order: its value (signed, value bits) if it holds one, then its
@@ -28,7 +28,10 @@
 //   (square_symmetry.h) of a shared child whose symmetry-mask bit is set.
 // A shared child's address counts units of 2^u bits, u chosen per structure (0 to
 // kMaxAddressUnit): each shared pack's private tree starts at a multiple of the unit, padded with
-// zeros, so every reference to it is u bits shorter.
+// zeros, so every reference to it is u bits shorter. A table format may give each shared child
+// an address of its own width, up to 15 bits narrower than its widest (the most referenced packs
+// lie first, so a pack's shared children's addresses often differ in width); an explicit format
+// gives them all the widest's.
 // A value v adds v << shift to the depth key its parent's path reconstructs (wrapping uint32, as
 // MMH's key deltas). Where three children hold values and residual bits is not 0, the fourth child
 // holds its parent's key (a delta of 0), and the child opposite it (k ^ 3) is *predicted*: its
@@ -95,6 +98,7 @@ struct Options {
   bool copies = true;        // shared packs smaller than the addresses they save are copied
   bool addressUnits = true;  // shared addresses in the unit that takes fewest bits; false: bits
   bool prediction = true;    // a pack's value opposite its valueless child predicted from a plane
+  bool sharedWidths = true;  // a table format gives each shared child its own address width
 };
 
 // The widest unit of a shared address: 2^5 bits.
@@ -104,9 +108,9 @@ constexpr uint32_t kMaxAddressUnit = 5;
 // 0, else the unique number with the most trailing zero bits.
 int64_t simplestIn(int64_t lo, int64_t hi);
 
-// A saved structure begins with its layout's version: 2 since predicted values. (Layout 1 began
-// with the root's kind.)
-constexpr uint8_t kLayoutVersion = 2;
+// A saved structure begins with its layout's version: 3 since a shared child's address width of
+// its own, 2 since predicted values. (Layout 1 began with the root's kind.)
+constexpr uint8_t kLayoutVersion = 3;
 
 // The key of +inf, the greatest a depth takes: keys up to it are in depth order.
 inline constexpr uint32_t kInfinityKey = 0x7f800000;
@@ -322,7 +326,10 @@ class DeltaDag {
       f.sharedMask = uint8_t((word >> at) & 15), at += 4;
       if (f.sharedMask && (word >> at++ & 1)) f.symmetryMask = uint8_t((word >> at) & 15), at += 4;
       if (f.hasPointerWidth()) f.pointerBits = (word >> at) & 63, at += 6;
-      if (f.sharedMask) f.sharedBits = (word >> at) & 63, at += 6;
+      if (f.sharedMask) {
+        const auto widest = uint8_t((word >> at) & 63);
+        f.setSharedWidths({widest, widest, widest, widest}), at += 6;
+      }
     }
     // Last, so that the fields before keep their places whether a pack predicts or not.
     if (shape.predictable < kMhChildren && (word >> at++ & 1))

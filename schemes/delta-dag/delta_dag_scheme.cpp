@@ -18,7 +18,8 @@ Options optionsOf(const ParamValues& params) {
           params.choice("symmetry") == "mirrors",
           params.choice("copies") == "cheaper",
           params.choice("address-unit") == "cheapest",
-          params.choice("prediction") == "plane"};
+          params.choice("prediction") == "plane",
+          params.choice("address-widths") == "each"};
 }
 
 // The decoder of an encoded structure, the encode step's counters recorded.
@@ -108,7 +109,12 @@ SchemeInfo deltaDag() {
                         "child as its residual from the plane through the other three, where "
                         "that takes fewer bits (open surfaces' exact depths); none stores every "
                         "value",
-                        "plane", {"plane", "none"}, {"plane", "none"})};
+                        "plane", {"plane", "none"}, {"plane", "none"}),
+      ParamSpec::choice("address-widths",
+                        "each lets a table format give each shared child an address of its own "
+                        "width (a pack's shared children are referenced unequally often, so their "
+                        "addresses differ in width); widest gives them all the widest's",
+                        "each", {"each", "widest"}, {"each", "widest"})};
   setMhBuilds(
       info,
       {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {

@@ -395,6 +395,30 @@ TEST_CASE("a layout with a table of formats reads back as built", "[delta-dag]")
       REQUIRE(loaded.texelKey(i, j) == encoded.dag.texelKey(i, j));
 }
 
+// A pack's shared children are referenced unequally often, so their addresses differ in width:
+// table formats that give each its own width take fewer pointer bits than the widest's for all,
+// and the structure still reads every texel's key, also from its bytes.
+TEST_CASE("a table format's own width for each shared address takes fewer pointer bits",
+          "[delta-dag]") {
+  for (const uint64_t seed : {3u, 4u}) {
+    const SyntheticMap map = SyntheticMap::random(2048, DepthMode::Closed, seed);
+    const auto build = [&](bool sharedWidths) {
+      Options options;
+      options.sharedWidths = sharedWidths;
+      return delta_dag::encode(hierarchyOf(map, 256), options);
+    };
+    const delta_dag::Encoded each = build(true), widest = build(false);
+    INFO("seed " << seed);
+    REQUIRE(each.statistics.formats > 0);
+    CHECK(each.statistics.pointerBits < widest.statistics.pointerBits);
+    CHECK(texelsOutside(map, each.dag) == 0);
+    const DeltaDag loaded = roundTrip(each.dag, map.info(SchemeKind::Depth));
+    for (uint32_t j = 0; j < map.resolution; j += 3)
+      for (uint32_t i = 0; i < map.resolution; i += 5)
+        REQUIRE(loaded.texelKey(i, j) == each.dag.texelKey(i, j));
+  }
+}
+
 // An open map of tilted planes, their float depths as a ray caster rounds them (each texel a point
 // interval): the keys of a square's corners are on a plane to an ulp or two, so the packs of
 // three values predict the fourth child's opposite and take fewer value bits, and every texel
@@ -427,7 +451,8 @@ TEST_CASE("values predicted from the plane through a pack read their exact keys"
 
 // Packs written by hand, field by field in the README's order, and the payload around them: the
 // layout's version, a full root at bit `root`, the address unit, the table's entries (a format's
-// code | its prefix code's length << kFormatCodeBits) and the escape's code length.
+// code | its prefix code's length << kFormatCodeBits), its narrowed formats and the escape's code
+// length.
 struct HandWrittenPacks {
   std::vector<uint8_t> bytes;
   uint64_t at = 0;
@@ -438,7 +463,8 @@ struct HandWrittenPacks {
     }
   }
   ByteWriter payload(uint32_t rootKey, uint64_t root, uint8_t addressUnit,
-                     const std::vector<uint64_t>& entries = {}, uint8_t escapeBits = 0) const {
+                     const std::vector<uint64_t>& entries = {}, uint8_t escapeBits = 0,
+                     const std::vector<uint32_t>& narrowed = {}) const {
     ByteWriter out;
     out.put<uint8_t>(delta_dag::kLayoutVersion);
     out.put<uint8_t>(uint8_t(MhChild::Full));
@@ -448,6 +474,7 @@ struct HandWrittenPacks {
     out.put<uint64_t>(entries.size());
     for (const uint64_t entry : entries)
       for (int b = 0; b < 6; ++b) out.put<uint8_t>(uint8_t(entry >> (8 * b)));
+    out.putArray(std::span<const uint32_t>(narrowed));
     out.put<uint8_t>(escapeBits);
     out.put<uint64_t>(at);
     out.put<uint64_t>(bytes.size());
@@ -557,6 +584,46 @@ TEST_CASE("a hand-written layout with addresses in 8-bit units reads as the READ
   const ByteWriter wide = packs.payload(rootKey, root, delta_dag::kMaxAddressUnit + 1);
   ByteReader wideIn(wide.bytes());
   CHECK_THROWS_AS(DeltaDag::load(wideIn, {4, 0, DepthMode::Closed}), FormatError);
+}
+
+// The README's table format with an address width for each shared child, by hand: shared packs
+// A at bit 0 and B at bit 24 as above, each escaping (code 1) to its explicit format; the root's
+// pack takes the table's one format (code 0): both children empty and shared, the widest address
+// 2 bits, child 0's narrowed by 1 in the narrowed formats (A at address 0 in 1 bit, B at 3 in 2).
+TEST_CASE(
+    "a hand-written table format with its own width for each shared address reads as the "
+    "README says",
+    "[delta-dag]") {
+  HandWrittenPacks packs;
+  packs.put(1, 1), packs.put(0b11, 8), packs.put(2, 6), packs.put(0, 5), packs.put(1, 2);  // A
+  packs.put(0, 2);  // padding
+  packs.put(1, 1), packs.put(0b11000000, 8), packs.put(2, 6), packs.put(0, 5),
+      packs.put(1, 2);  // B
+  const uint64_t root = packs.at;
+  packs.put(0, 1), packs.put(0, 1), packs.put(3, 2);  // the root: its code, A, B
+  const uint32_t rootKey = 0x3f000000;
+  const uint64_t entry =
+      0b1010 | uint64_t(2) << 25 | uint64_t(0b11) << 31 | uint64_t(1) << delta_dag::kFormatCodeBits;
+  const auto load = [&](const std::vector<uint32_t>& narrowed) {
+    const ByteWriter out = packs.payload(rootKey, root, 3, {entry}, 1, narrowed);
+    ByteReader in(out.bytes());
+    DeltaDag dag = DeltaDag::load(in, {4, 0, DepthMode::Closed});
+    in.expectEnd();
+    return dag;
+  };
+  const DeltaDag dag = load({1u << 16});
+  CHECK(dag.texelKey(0, 0) == rootKey + 1);
+  CHECK(dag.texelKey(1, 0) == rootKey);
+  CHECK(dag.texelKey(3, 1) == rootKey + 1);
+  CHECK(dag.texelKey(2, 0) == rootKey);
+  CHECK(dag.texelKey(0, 3) == rootKey);
+  // Narrowed to nothing, the address of a child that is not shared, no narrowing, a format
+  // outside the table, one named twice.
+  CHECK_THROWS_WITH(load({0x21u << 16}), Catch::Contains("0-bit address"));
+  CHECK_THROWS_WITH(load({0x101u << 16}), Catch::Contains("not shared"));
+  for (const std::vector<uint32_t>& narrowed :
+       std::vector<std::vector<uint32_t>>{{0}, {1 | 1u << 16}, {1u << 16, 1u << 16}})
+    CHECK_THROWS_WITH(load(narrowed), Catch::Contains("is not a narrowing"));
 }
 
 // Regression: four private pointers to one pack, at every level, read alike but reach it by

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "schemes/delta-dag/prefix_code.h"
+#include "schemes/shared/hash_cons.h"
 
 namespace sb::delta_dag {
 
@@ -75,39 +76,63 @@ uint8_t widthFor(uint8_t width, uint64_t pointer) {
   return uint8_t(std::max<uint32_t>({width, 1u, uint32_t(std::bit_width(pointer))}));
 }
 
+// A format with shared addresses of their own widths joins the table where its packs save this
+// many bits or more: a table entry takes 64 bits, and each format more lengthens the others'
+// codes. Of 0 to 4096, 128 to 512 made the smallest structures (the city open at 16K², 0.911 of
+// the widest's width for all at 256; the city closed and the forest static within 0.2 %, where 0
+// took 1.0 and 0.4 % more).
+constexpr uint64_t kMinOwnWidthsGain = 256;
+
 // A pack predicts a value where that saves this many bits or more (fittedValues).
 constexpr uint32_t kMinPredictionGain = 4;
 
 // What a pack needs of a table format to be written in it.
 struct FormatNeed {
   uint16_t bits;  // its explicit format's: a table format must take fewer
-  uint8_t shift, pointerBits, sharedBits, symmetryMask;
+  uint8_t shift, pointerBits, symmetryMask;
+  uint32_t sharedWidths;  // PackFormat::sharedWidths
   // Its values' widths at its own shift: all, all but the predictable one, and the residual's (0
   // where the residual is 0). A format of d bits less shift needs each of them d bits wider, but
   // a residual of 0, which takes 1 bit at every shift.
   uint8_t widest, neighbours, residual;
+  bool operator==(const FormatNeed&) const = default;
+  uint64_t hash() const {
+    return mixBits(uint64_t(bits) | uint64_t(shift) << 16 | uint64_t(pointerBits) << 24 |
+                   uint64_t(symmetryMask) << 32 | uint64_t(widest) << 40 |
+                   uint64_t(neighbours) << 48 | uint64_t(residual) << 56) ^
+           mixBits(sharedWidths);
+  }
 };
 
-FormatNeed needOf(const Pack& pack, const PackFormat& own) {
-  FormatNeed need{own.bits, own.shift, own.pointerBits, own.sharedBits, own.symmetryMask, 0, 0, 0};
+// `form`: the pack's explicit format; `sharedWidths`: its shared addresses' own widths.
+FormatNeed needOf(const Pack& pack, const PackFormat& form, uint32_t sharedWidths) {
+  FormatNeed need{form.bits, form.shift, form.pointerBits, form.symmetryMask, sharedWidths, 0,
+                  0,         0};
   const uint32_t predictable = packShape(pack.flags).predictable;
   for (uint32_t k = 0; k < kMhChildren; ++k) {
     if (!hasValue(MhChild(childFlag(pack.flags, int(k))))) continue;
-    const uint8_t bits = uint8_t(signedBits(pack.values[k] >> own.shift));
+    const uint8_t bits = uint8_t(signedBits(pack.values[k] >> form.shift));
     need.widest = std::max(need.widest, bits);
     if (k != predictable) need.neighbours = std::max(need.neighbours, bits);
   }
   if (predictable < kMhChildren)
-    if (const int64_t residual = predictionResidual(pack, own.shift); residual != 0)
+    if (const int64_t residual = predictionResidual(pack, form.shift); residual != 0)
       need.residual = uint8_t(signedBits(residual));
   return need;
 }
 
-// A table format as the search compares it: 8 bytes, so that a group's scan reads few lines.
+// A table format as the search compares it: 12 bytes, so that a group's scan reads few lines.
 struct FormatFit {
   uint16_t bits;
-  uint8_t shift, valueBits, residualBits, pointerBits, sharedBits, symmetryMask;
+  uint8_t shift, valueBits, residualBits, pointerBits, symmetryMask;
+  uint32_t sharedWidths;
 };
+
+// Whether each byte of `widths` is at least the same byte of `needed`, all below 128: no byte's
+// difference borrows from the next, so each keeps its top bit.
+bool eachAtLeast(uint32_t widths, uint32_t needed) {
+  return (((widths | 0x80808080u) - needed) & 0x80808080u) == 0x80808080u;
+}
 
 // Whether a format holds a pack: its pointers at least as wide, the symmetries it needs, and its
 // values fit, predicted or not as the format says. Evaluated without branches: which test fails
@@ -116,36 +141,83 @@ bool holds(const FormatFit& g, const FormatNeed& need) {
   const int d = int(need.shift) - int(g.shift);
   const bool predicted = g.residualBits != 0;
   const int residual = need.residual != 0 ? need.residual + d : 1;
-  return (d >= 0) & (g.pointerBits >= need.pointerBits) & (g.sharedBits >= need.sharedBits) &
+  return (d >= 0) & (g.pointerBits >= need.pointerBits) &
+         eachAtLeast(g.sharedWidths, need.sharedWidths) &
          ((need.symmetryMask & ~g.symmetryMask) == 0) &
          ((predicted ? need.neighbours : need.widest) + d <= g.valueBits) &
          (!predicted | (residual <= g.residualBits));
 }
 
-// The table's formats of one flags and shared mask (PackFormat::groupKey), by the bits they take.
+// The table's formats of one flags and shared mask (PackFormat::groupKey), in runs of one widest
+// shared address (PackFormat::sharedBits), ascending, each run by the bits its formats take: a
+// pack's search skips the runs too narrow for it, where formats of narrower addresses are many.
 constexpr uint32_t kFormatGroups = 1u << 12;
 struct FormatGroup {
+  struct Run {
+    uint8_t sharedBits;
+    uint32_t begin, end;  // into fits
+  };
   std::vector<FormatFit> fits;
   std::vector<uint32_t> index;  // into the table
+  std::vector<Run> runs;
 };
 
-// The first format of `group` that holds the pack and takes fewer bits than its explicit format
-// (the cheapest), or -1. A search scans about 100 formats (the forest at 16K²: 220 M for 2.18 M
-// packs), in blocks of 32 tested at once.
+// The format of `group` that holds the pack and takes the fewest bits, fewer than its explicit
+// format, the first in the table of those; -1 if none. Each run wide enough is scanned up to the
+// bits of the best found so far, in blocks of 32 tested at once. (With each shared child's own
+// width the city open at 8K² has groups of up to 6840 formats; scanned whole up to the bits, a
+// search read 1750 of them.)
 int32_t cheapestHolder(const FormatGroup& group, const FormatNeed& need) {
   constexpr size_t kBlock = 32;
-  for (size_t begin = 0; begin < group.fits.size(); begin += kBlock) {
-    const size_t end = std::min(group.fits.size(), begin + kBlock);
-    uint32_t held = 0, cheaper = 0;
-    for (size_t i = begin; i < end; ++i) {
-      held |= uint32_t(holds(group.fits[i], need)) << (i - begin);
-      cheaper |= uint32_t(group.fits[i].bits < need.bits) << (i - begin);
+  uint32_t widest = 0;
+  for (int k = 0; k < kMhChildren; ++k)
+    widest = std::max(widest, need.sharedWidths >> (8 * k) & 255);
+  int32_t best = -1;
+  uint32_t most = need.bits - 1u;  // the bits a better holder may take
+  for (const FormatGroup::Run& run : group.runs) {
+    if (run.sharedBits < widest) continue;
+    for (size_t begin = run.begin; begin < run.end; begin += kBlock) {
+      const size_t end = std::min<size_t>(run.end, begin + kBlock);
+      uint32_t held = 0, cheaper = 0;
+      for (size_t i = begin; i < end; ++i) {
+        held |= uint32_t(holds(group.fits[i], need)) << (i - begin);
+        cheaper |= uint32_t(group.fits[i].bits <= most) << (i - begin);
+      }
+      if ((held &= cheaper) != 0) {
+        const size_t i = begin + std::countr_zero(held);
+        const auto found = int32_t(group.index[i]);
+        if (best < 0 || group.fits[i].bits < most || found < best)
+          best = found, most = group.fits[i].bits;
+        break;
+      }
+      if (size_t(std::countr_one(cheaper)) < end - begin) break;  // the rest take more bits
     }
-    if ((held &= cheaper) != 0) return int32_t(group.index[begin + std::countr_zero(held)]);
-    if (size_t(std::countr_one(cheaper)) < end - begin) return -1;  // the rest take more bits
   }
-  return -1;
+  return best;
 }
+
+// The cheapest holder of each need met, by group: many packs need the same (the city open at
+// 8K²: 0.36 M distinct needs for 2.2 M packs).
+class HolderMemo {
+ public:
+  int32_t cheapest(const std::vector<FormatGroup>& groups, uint32_t groupKey,
+                   const FormatNeed& need) {
+    const auto [id, added] = index_.findOrAdd(need.hash() ^ groupKey, [&](uint32_t other) {
+      return groupKeys_[other] == groupKey && needs_[other] == need;
+    });
+    if (added) {
+      groupKeys_.push_back(groupKey), needs_.push_back(need);
+      holders_.push_back(cheapestHolder(groups[groupKey], need));
+    }
+    return holders_[id];
+  }
+
+ private:
+  HashConsIndex index_;
+  std::vector<uint32_t> groupKeys_;
+  std::vector<FormatNeed> needs_;
+  std::vector<int32_t> holders_;
+};
 
 }  // namespace
 
@@ -207,7 +279,7 @@ uint32_t cheapestAddressUnit(const std::vector<uint64_t>& positions,
 uint64_t Layout::cost() const {
   const uint32_t longest =
       table.lengths.empty() ? 0 : *std::max_element(table.lengths.begin(), table.lengths.end());
-  return bits() + table.codes.size() * 8 * sizeof(FormatEntry) + (uint64_t(16) << longest);
+  return bits() + 8 * storedBytes(table) + (uint64_t(16) << longest);
 }
 
 namespace {
@@ -226,19 +298,25 @@ void layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector
   // them, 94 KB of bits).
   std::vector<uint16_t> formatBits;
   std::vector<FormatGroup> groups;
+  HolderMemo holders;
   if (pass == LayoutPass::Count) {
     std::vector<uint32_t> byBits;
     for (uint32_t c = 0; c < formats.size(); ++c)
       formatBits.push_back(formats[c].bits), byBits.push_back(c);
-    std::stable_sort(byBits.begin(), byBits.end(),
-                     [&](uint32_t a, uint32_t b) { return formatBits[a] < formatBits[b]; });
+    std::stable_sort(byBits.begin(), byBits.end(), [&](uint32_t a, uint32_t b) {
+      return std::pair(formats[a].sharedBits, formatBits[a]) <
+             std::pair(formats[b].sharedBits, formatBits[b]);
+    });
     groups.resize(kFormatGroups);
     for (const uint32_t c : byBits) {
       const PackFormat& g = formats[c];
       FormatGroup& group = groups[g.groupKey()];
+      if (group.runs.empty() || group.runs.back().sharedBits != g.sharedBits)
+        group.runs.push_back({g.sharedBits, uint32_t(group.fits.size()), 0});
       group.fits.push_back({g.bits, g.shift, g.valueBits, g.residualBits, g.pointerBits,
-                            g.sharedBits, g.symmetryMask});
+                            g.symmetryMask, g.sharedWidths()});
       group.index.push_back(c);
+      group.runs.back().end = uint32_t(group.fits.size());
     }
   }
   const std::vector<uint32_t> codes = canonicalCodes(table.lengths);
@@ -268,6 +346,7 @@ void layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector
     PackEncoding e;
     PackFormat& f = e.format;
     f.flags = pack.flags;
+    std::array<uint8_t, kMhChildren> sharedWidths{};
     for (int k = 0; k < kMhChildren; ++k)
       if (isInner(childFlag(pack.flags, k)) && absolute[pack.children[k]]) {
         f.sharedMask |= uint8_t(1u << k);
@@ -275,7 +354,7 @@ void layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector
         if (placed[pack.children[k]] == UINT64_MAX)
           throw std::logic_error("delta-dag: a shared pack placed late");
         e.pointers[k] = placed[pack.children[k]] >> addressUnit;
-        f.sharedBits = widthFor(f.sharedBits, e.pointers[k]);
+        sharedWidths[k] = widthFor(0, e.pointers[k]);
       }
     uint64_t after = 0;
     forPrivateChildren(pack, [&](int k, uint32_t child) {
@@ -285,12 +364,17 @@ void layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector
     });
     const ValueFields values = fittedValues(pack, prediction);
     f.shift = values.shift, f.valueBits = values.valueBits, f.residualBits = values.residualBits;
+    f.setSharedWidths(sharedWidths);
     if (std::max(f.pointerBits, f.sharedBits) > kMaxPointerBits)
       throw std::length_error("delta-dag: a pointer needs more than 54 bits");
-    f.derive(escapeBits + f.explicitBits());
     e.ownCode = f.code();
+    const uint32_t ownWidths = f.sharedWidths();
+    f.setSharedWidths({f.sharedBits, f.sharedBits, f.sharedBits, f.sharedBits});  // explicit
+    f.derive(escapeBits + f.explicitBits());
     if (chosen[id] == -2)
-      chosen[id] = table.codes.empty() ? -1 : cheapestHolder(groups[f.groupKey()], needOf(pack, f));
+      chosen[id] = table.codes.empty()
+                       ? -1
+                       : holders.cheapest(groups, f.groupKey(), needOf(pack, f, ownWidths));
     e.index = chosen[id];
     if (e.index >= 0 && pass == LayoutPass::Write) e.format = formats[e.index];
     return e;
@@ -403,7 +487,8 @@ void writeLayout(const std::vector<Pack>& packs, uint32_t rootPack,
   layOut(packs, rootPack, absolute, shared, prediction, layout, LayoutPass::Write);
 }
 
-FormatTable frequentFormats(std::vector<uint64_t> ownCodes, uint64_t minCount, uint32_t maxBits) {
+FormatTable frequentFormats(std::vector<uint64_t> ownCodes, uint64_t minCount, uint32_t maxBits,
+                            bool eachSharedWidth) {
   // Counted by sorting: a hash map's update per pack took 8 % of a build (forest 16K², perf).
   std::sort(ownCodes.begin(), ownCodes.end());
   std::vector<std::pair<uint64_t, uint64_t>> counts;  // code, packs
@@ -412,29 +497,55 @@ FormatTable frequentFormats(std::vector<uint64_t> ownCodes, uint64_t minCount, u
       counts.push_back({code, 1});
     else
       ++counts.back().second;
-  std::vector<std::pair<uint64_t, uint64_t>> byFrequency;
-  uint64_t left = 0;
   // Counted with widths rounded up to even: packs a bit apart share the wider format, so fewer
-  // formats hold more packs (4K²: 2 to 4 % smaller than exact widths).
+  // formats hold more packs (4K²: 2 to 4 % smaller than exact widths). Each pack counts for its
+  // format with every shared address as wide as the widest, and with `eachSharedWidth` also for
+  // its format with each address's own width, where that differs: counted only in the latter,
+  // packs split among more formats, fewer of them frequent enough (the forest static at 16K²
+  // took 2.7 % more, twice the escapes), while now the table holds the formats it held without
+  // own widths, and those with own widths that save enough (kMinOwnWidthsGain).
   const auto even = [](uint32_t bits, uint32_t most) { return std::min(bits + (bits & 1), most); };
-  std::unordered_map<uint64_t, uint64_t> rounded;
+  std::unordered_map<uint64_t, uint64_t> widest, own;
   for (const auto& [code, count] : counts) {
     PackFormat f = PackFormat::ofCode(code, 0);
     f.valueBits = uint8_t(even(f.valueBits, 32 - f.shift));
     if (f.residualBits) f.residualBits = uint8_t(even(f.residualBits, kMaxResidualBits));
     f.pointerBits = uint8_t(even(f.pointerBits, kMaxPointerBits));
-    f.sharedBits = uint8_t(even(f.sharedBits, kMaxPointerBits));
     if (f.symmetryMask) f.symmetryMask = f.sharedMask;
-    rounded[f.code()] += count;
+    std::array<uint8_t, kMhChildren> ownWidths{};
+    for (int k = 0; k < kMhChildren; ++k)
+      ownWidths[k] = uint8_t(even(f.pointerWidth[k], kMaxPointerBits));
+    const auto sharedBits = uint8_t(even(f.sharedBits, kMaxPointerBits));
+    f.setSharedWidths({sharedBits, sharedBits, sharedBits, sharedBits});
+    const uint64_t widestCode = f.code();
+    widest[widestCode] += count;
+    f.setSharedWidths(ownWidths);
+    if (eachSharedWidth && f.code() != widestCode) own[f.code()] += count;
   }
-  for (const auto& [code, count] : rounded) byFrequency.push_back({count, code}), left += count;
+  struct Candidate {
+    uint64_t count, code;
+    bool widest;
+    auto operator<=>(const Candidate&) const = default;
+  };
+  std::vector<Candidate> byFrequency;
+  uint64_t left = 0;  // the packs of no format taken, as wide as the widest
+  for (const auto& [code, count] : widest)
+    byFrequency.push_back({count, code, true}), left += count;
+  for (const auto& [code, count] : own) {
+    const PackFormat f = PackFormat::ofCode(code, 0);
+    uint64_t saved = 0;  // address bits a pack saves
+    for (int k = 0; k < kMhChildren; ++k)
+      if (f.sharedMask >> k & 1) saved += f.sharedBits - f.pointerWidth[k];
+    if (count * saved >= kMinOwnWidthsGain) byFrequency.push_back({count, code, false});
+  }
   std::sort(byFrequency.begin(), byFrequency.end(), std::greater<>());
   const size_t most = std::min<size_t>((size_t(1) << maxBits) - 1, kNoSymbol - 1);
   FormatTable table;
   std::vector<uint64_t> uses;
-  for (const auto& [count, code] : byFrequency) {
-    if (count < minCount || table.codes.size() == most) break;
-    table.codes.push_back(code), uses.push_back(count), left -= count;
+  for (const Candidate& candidate : byFrequency) {
+    if (candidate.count < minCount || table.codes.size() == most) break;
+    table.codes.push_back(candidate.code), uses.push_back(candidate.count);
+    if (candidate.widest) left -= candidate.count;
   }
   if (table.codes.empty()) return {};
   uses.push_back(std::max<uint64_t>(left, 1));

@@ -129,8 +129,10 @@ void writeLayout(const std::vector<Pack>& packs, uint32_t rootPack,
                  bool prediction, Layout& layout);
 // A table of the formats that `ownCodes` (each pack's format code) hold at least `minCount` times
 // (the most frequent 2^maxBits − 1, fewer than kNoSymbol), with Huffman codes of at most maxBits
-// by count, the escape's by the packs left out.
-FormatTable frequentFormats(std::vector<uint64_t> ownCodes, uint64_t minCount, uint32_t maxBits);
+// by count, the escape's by the packs left out. `eachSharedWidth`: a format may give each shared
+// child its own address width; false: all the widest's.
+FormatTable frequentFormats(std::vector<uint64_t> ownCodes, uint64_t minCount, uint32_t maxBits,
+                            bool eachSharedWidth);
 // The table a layout used, less its unused formats, with codes fitted to its uses.
 FormatTable refitted(const Layout& layout, uint32_t maxBits);
 

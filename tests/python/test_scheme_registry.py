@@ -16,7 +16,7 @@ REGISTRY_DEFAULTS = {
     "dag-mh": {"treelet-height": "4", "chunk-size": "32", "skip-level": "6"},
     "delta-dag": {"values": "simplest", "sharing": "dag", "addresses": "by-references",
                   "formats": "table", "symmetry": "mirrors", "copies": "cheaper",
-                  "address-unit": "cheapest", "prediction": "plane"},
+                  "address-unit": "cheapest", "prediction": "plane", "address-widths": "each"},
     "mmh": {"search-distance": "1000", "interval-test": "both-ways",
             "relative-values": "key-deltas"},
     "sm-zstd": {"block": "64", "level": "3", "cache": "4"},
