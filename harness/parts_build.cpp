@@ -186,12 +186,11 @@ BuildOutcome mergeParts(
   BuildShape merge{shape.tileSize, shape.partSize, BuildShape::Step::Merge};
   for (uint64_t index = count; index-- > 0;) {
     const std::filesystem::path path = partFilePath(target.folder, index);
-    std::error_code error;
-    const uint64_t bytes = std::filesystem::file_size(path, error);
-    if (error) {
+    if (!std::filesystem::exists(path)) {
       ++missing, firstMissing = index;
       continue;
     }
+    const uint64_t bytes = partPayloadBytes(path);
     merge.partFiles.totalBytes += bytes;
     merge.partFiles.largestBytes = std::max(merge.partFiles.largestBytes, bytes);
   }

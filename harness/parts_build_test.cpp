@@ -246,9 +246,10 @@ TEST_CASE("a part file of another build is refused, naming what differs, and kep
   CHECK_THAT(mergeError(otherScheme, options), Catch::Contains("belongs to another build"));
 }
 
-// tests/golden/part_file.sbpart pins the part file's framing and header; regenerate deliberately
-// with SHADOWBENCH_UPDATE_GOLDEN=1 when the part file version changes.
-TEST_CASE("the part file format matches its golden file and refuses every damaged copy",
+// tests/golden/part_file.sbpart pins the part file's framing and header, its payload compressed;
+// tests/golden/part_file_uncompressed.sbpart the same file as written before compression, which
+// still reads. Regenerate deliberately with SHADOWBENCH_UPDATE_GOLDEN=1 when the format changes.
+TEST_CASE("the part file format matches its golden files and refuses every damaged copy",
           "[parts][format]") {
   PartCosts costs;
   costs.depthSeconds = 0.5;
@@ -260,27 +261,86 @@ TEST_CASE("the part file format matches its golden file and refuses every damage
   const std::vector<float> depths(64, 0.5f);
   ByteWriter payload;
   payload.putArray<float>(depths);
-  const std::vector<uint8_t> file = encodePartFile(goldenIdentity(), costs, payload.bytes());
-  const std::string path = "tests/golden/part_file.sbpart";
-  if (std::getenv("SHADOWBENCH_UPDATE_GOLDEN")) writeBytes(path, file);
-  INFO("golden file " << path << " (create it with SHADOWBENCH_UPDATE_GOLDEN=1)");
-  CHECK(readBytes(path) == file);
+  for (const bool compress : {true, false}) {
+    const std::vector<uint8_t> file =
+        encodePartFile(goldenIdentity(), costs, payload.bytes(), compress);
+    const std::string path =
+        compress ? "tests/golden/part_file.sbpart" : "tests/golden/part_file_uncompressed.sbpart";
+    if (std::getenv("SHADOWBENCH_UPDATE_GOLDEN")) writeBytes(path, file);
+    INFO("golden file " << path << " (create it with SHADOWBENCH_UPDATE_GOLDEN=1)");
+    CHECK(readBytes(path) == file);
 
-  const PartFile decoded = decodePartFile(file);
-  CHECK(decoded.identity.part == 3);
-  CHECK(decoded.costs.phases == costs.phases);
-  CHECK(decoded.costs.depthSharedWith == costs.depthSharedWith);
-  CHECK(std::vector<uint8_t>(decoded.payload.begin(), decoded.payload.end()) == payload.bytes());
+    const PartFile decoded = decodePartFile(file);
+    CHECK(decoded.identity.part == 3);
+    CHECK(decoded.costs.phases == costs.phases);
+    CHECK(decoded.costs.depthSharedWith == costs.depthSharedWith);
+    CHECK(std::vector<uint8_t>(decoded.payload.begin(), decoded.payload.end()) == payload.bytes());
 
-  for (size_t length = 0; length < file.size(); ++length) {
-    INFO("cut to " << length << " bytes");
-    CHECK_THROWS_AS(decodePartFile({file.begin(), file.begin() + std::ptrdiff_t(length)}),
-                    FormatError);
+    for (size_t length = 0; length < file.size(); ++length) {
+      INFO("cut to " << length << " bytes");
+      CHECK_THROWS_AS(decodePartFile({file.begin(), file.begin() + std::ptrdiff_t(length)}),
+                      FormatError);
+    }
+    for (size_t at = 0; at < file.size(); at += 7) {
+      INFO("byte " << at << " flipped");
+      std::vector<uint8_t> corrupted = file;
+      corrupted[at] ^= 0x5a;
+      CHECK_THROWS_AS(decodePartFile(corrupted), FormatError);
+    }
   }
-  for (size_t at = 0; at < file.size(); at += 7) {
-    INFO("byte " << at << " flipped");
-    std::vector<uint8_t> corrupted = file;
-    corrupted[at] ^= 0x5a;
-    CHECK_THROWS_AS(decodePartFile(corrupted), FormatError);
+}
+
+// Past the checksum (a file framed anew around them): a compressed payload that is not one whole
+// zstd frame of the size its header names, and a compression this build does not know.
+TEST_CASE("a part file's compressed payload is refused where it is not one whole zstd frame",
+          "[parts][format]") {
+  ByteWriter payload;
+  payload.putArray<float>(std::vector<float>(64, 0.25f));
+  const std::vector<uint8_t> file = encodePartFile(goldenIdentity(), {}, payload.bytes());
+  const FramedFile framed = unframeFile(kPartFraming, file);
+  const std::string header(framed.header);
+  const std::vector<uint8_t> tagged(framed.payload.begin(), framed.payload.end());
+  const size_t tagBytes = 1 + goldenIdentity().structure.scheme.size();
+  const auto error = [](const std::string& header, std::span<const uint8_t> tagged) {
+    try {
+      decodePartFile(frameFile(kPartFraming, header, tagged));
+    } catch (const FormatError& refused) {
+      return std::string(refused.what());
+    }
+    return std::string();
+  };
+  REQUIRE(error(header, tagged).empty());
+  std::vector<uint8_t> cut(tagged.begin(), tagged.end() - 1), longer = tagged, garbled = tagged;
+  longer.push_back(0);
+  garbled[tagBytes + 4] ^= 0xff;  // the frame header's first byte after the magic number
+  CHECK_THAT(error(header, cut), Catch::Contains("compressed payload"));
+  CHECK_THAT(error(header, longer), Catch::Contains("not one whole zstd frame"));
+  CHECK_THAT(error(header, garbled), Catch::Contains("compressed payload"));
+  const auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string text = header;
+    REQUIRE(text.find(from) != std::string::npos);
+    return text.replace(text.find(from), from.size(), to);
+  };
+  CHECK_THAT(error(replaced("\"zstd\"", "\"gzip\""), tagged),
+             Catch::Contains("\"compression\":\"gzip\""));
+  const std::string bytes = std::to_string(payload.bytes().size()),
+                    fewer = std::to_string(payload.bytes().size() - 1);
+  CHECK_THAT(error(replaced("\"bytes\":" + bytes, "\"bytes\":" + fewer), tagged),
+             Catch::Contains("where the header says " + fewer));
+}
+
+// A merge declares its memory from what the parts hold: a compressed part's payload as its
+// header says, decompressed; a part written before compression, its file's size.
+TEST_CASE("a part file's payload bytes are read from its header alone", "[parts][format]") {
+  ScratchDir dir;
+  ByteWriter payload;
+  payload.putArray<float>(std::vector<float>(1000, 0.25f));
+  for (const bool compress : {true, false}) {
+    const std::vector<uint8_t> file =
+        encodePartFile(goldenIdentity(), {}, payload.bytes(), compress);
+    const std::filesystem::path path = dir.path() / "part.sbpart";
+    writeBytes(path, file);
+    CHECK(partPayloadBytes(path) == (compress ? payload.bytes().size() : file.size()));
+    if (compress) CHECK(file.size() < payload.bytes().size() / 4);
   }
 }

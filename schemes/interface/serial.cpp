@@ -291,9 +291,9 @@ FramedFile unframeFile(const FileFraming& framing, std::span<const uint8_t> file
           file.subspan(payloadLengthAt + sizeof(uint64_t), payloadBytes)};
 }
 
-std::vector<uint8_t> readFramedFile(const FileFraming& framing, const std::filesystem::path& path,
-                                    const std::function<void(std::string_view)>& checkHeader) {
-  const StructureFileReader file(path);
+namespace {
+
+std::string headerOf(const FileFraming& framing, const StructureFileReader& file) {
   checkFileSize(framing, file.size());
   std::array<uint8_t, kPrefixBytes> prefix;
   file.read(0, prefix);
@@ -301,6 +301,20 @@ std::vector<uint8_t> readFramedFile(const FileFraming& framing, const std::files
   checkHeaderFits(framing, headerBytes, file.size());
   std::string header(headerBytes, '\0');
   file.read(kPrefixBytes, std::span(reinterpret_cast<uint8_t*>(header.data()), header.size()));
+  return header;
+}
+
+}  // namespace
+
+std::string readFramedHeader(const FileFraming& framing, const std::filesystem::path& path) {
+  return headerOf(framing, StructureFileReader(path));
+}
+
+std::vector<uint8_t> readFramedFile(const FileFraming& framing, const std::filesystem::path& path,
+                                    const std::function<void(std::string_view)>& checkHeader) {
+  const StructureFileReader file(path);
+  const std::string header = headerOf(framing, file);
+  const uint32_t headerBytes = uint32_t(header.size());
   checkHeader(header);
   uint64_t payloadBytes;
   file.read(kPrefixBytes + headerBytes,

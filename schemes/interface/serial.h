@@ -121,6 +121,9 @@ FramedFile unframeFile(const FileFraming& framing, std::span<const uint8_t> file
 // payload is read, so a foreign file is refused without reading it whole. Throws FormatError.
 std::vector<uint8_t> readFramedFile(const FileFraming& framing, const std::filesystem::path& path,
                                     const std::function<void(std::string_view)>& checkHeader);
+// A framed file's header alone, its payload not read (its framing's checks that need only the
+// prefix and the file's size made). Throws FormatError.
+std::string readFramedHeader(const FileFraming& framing, const std::filesystem::path& path);
 
 // The payload tag (u8 length n, then the n bytes of the writing scheme's name) makes a payload
 // self-identifying: formats that two schemes share (mh and mmh) cannot be swapped under each
