@@ -381,6 +381,15 @@ TEST_CASE("subtrees equal under a mirroring or a transposition are stored once",
   }
 }
 
+// Every texel's key inside its interval, and a sample of texels read back from the bytes alike.
+void checkReadsBackAsBuilt(const SyntheticMap& map, const DeltaDag& dag) {
+  CHECK(texelsOutside(map, dag) == 0);
+  const DeltaDag loaded = roundTrip(dag, map.info(SchemeKind::Depth));
+  for (uint32_t j = 0; j < map.resolution; j += 3)
+    for (uint32_t i = 0; i < map.resolution; i += 5)
+      REQUIRE(loaded.texelKey(i, j) == dag.texelKey(i, j));
+}
+
 // Small maps have too few packs for a table to pay (the golden file has none); at 2048² the
 // random map's packs repeat formats enough.
 TEST_CASE("a layout with a table of formats reads back as built", "[delta-dag]") {
@@ -388,11 +397,7 @@ TEST_CASE("a layout with a table of formats reads back as built", "[delta-dag]")
   const delta_dag::Encoded encoded = delta_dag::encode(hierarchyOf(map, 256), {});
   REQUIRE(encoded.statistics.formats > 0);
   CHECK(encoded.statistics.escapes < encoded.statistics.dagPacks);
-  CHECK(texelsOutside(map, encoded.dag) == 0);
-  const DeltaDag loaded = roundTrip(encoded.dag, map.info(SchemeKind::Depth));
-  for (uint32_t j = 0; j < map.resolution; j += 3)
-    for (uint32_t i = 0; i < map.resolution; i += 5)
-      REQUIRE(loaded.texelKey(i, j) == encoded.dag.texelKey(i, j));
+  checkReadsBackAsBuilt(map, encoded.dag);
 }
 
 // A pack's shared children are referenced unequally often, so their addresses differ in width:
@@ -411,11 +416,7 @@ TEST_CASE("a table format's own width for each shared address takes fewer pointe
     INFO("seed " << seed);
     REQUIRE(each.statistics.formats > 0);
     CHECK(each.statistics.pointerBits < widest.statistics.pointerBits);
-    CHECK(texelsOutside(map, each.dag) == 0);
-    const DeltaDag loaded = roundTrip(each.dag, map.info(SchemeKind::Depth));
-    for (uint32_t j = 0; j < map.resolution; j += 3)
-      for (uint32_t i = 0; i < map.resolution; i += 5)
-        REQUIRE(loaded.texelKey(i, j) == each.dag.texelKey(i, j));
+    checkReadsBackAsBuilt(map, each.dag);
   }
 }
 
@@ -447,211 +448,6 @@ TEST_CASE("values predicted from the plane through a pack read their exact keys"
       for (uint32_t i = 0; i < map.resolution; ++i)
         REQUIRE(loaded.texelKey(i, j) == depthKey(map.lo[size_t(j) * 128 + i]));
   }
-}
-
-// Packs written by hand, field by field in the README's order, and the payload around them: the
-// layout's version, a full root at bit `root`, the address unit, the table's entries (a format's
-// code | its prefix code's length << kFormatCodeBits), its narrowed formats and the escape's code
-// length.
-struct HandWrittenPacks {
-  std::vector<uint8_t> bytes;
-  uint64_t at = 0;
-  void put(uint64_t value, uint32_t bits) {
-    for (uint32_t b = 0; b < bits; ++b, ++at) {
-      if (at / 8 == bytes.size()) bytes.push_back(0);
-      bytes[at / 8] |= uint8_t((value >> b & 1) << at % 8);
-    }
-  }
-  ByteWriter payload(uint32_t rootKey, uint64_t root, uint8_t addressUnit,
-                     const std::vector<uint64_t>& entries = {}, uint8_t escapeBits = 0,
-                     const std::vector<uint32_t>& narrowed = {}) const {
-    ByteWriter out;
-    out.put<uint8_t>(delta_dag::kLayoutVersion);
-    out.put<uint8_t>(uint8_t(MhChild::Full));
-    out.put<uint32_t>(rootKey);
-    out.put<uint64_t>(root);
-    out.put<uint8_t>(addressUnit);
-    out.put<uint64_t>(entries.size());
-    for (const uint64_t entry : entries)
-      for (int b = 0; b < 6; ++b) out.put<uint8_t>(uint8_t(entry >> (8 * b)));
-    out.putArray(std::span<const uint32_t>(narrowed));
-    out.put<uint8_t>(escapeBits);
-    out.put<uint64_t>(at);
-    out.put<uint64_t>(bytes.size());
-    for (const uint8_t byte : bytes) out.put<uint8_t>(byte);
-    return out;
-  }
-};
-
-// The layout with a table, written by hand from the README: a table of one format (child 0 a
-// leaf, 2-bit values) whose code is 0, the escape's 1; the root pack escapes (child 0 full, value
-// 1, its pack following with no pointer), the pack below uses the table (child 0 a leaf, value 1).
-TEST_CASE("a hand-written layout with a table and an escape reads as the README says",
-          "[delta-dag]") {
-  HandWrittenPacks packs;
-  packs.put(1, 1), packs.put(0b01, 8), packs.put(2, 6), packs.put(0, 5), packs.put(0, 4),
-      packs.put(1, 2);               // the root's pack
-  packs.put(0, 1), packs.put(1, 2);  // the pack below
-  const uint32_t rootKey = 0x3f000000;
-  const uint64_t format = 0b11 | uint64_t(2) << 8;
-  const ByteWriter out =
-      packs.payload(rootKey, 0, 0, {format | uint64_t(1) << delta_dag::kFormatCodeBits}, 1);
-  ByteReader in(out.bytes());
-  const DeltaDag dag = DeltaDag::load(in, {8, 0, DepthMode::Closed});
-  in.expectEnd();
-  CHECK(dag.texelKey(0, 0) == rootKey + 2);
-  CHECK(dag.texelKey(1, 1) == rootKey + 2);
-  CHECK(dag.texelKey(3, 3) == rootKey + 1);
-  CHECK(dag.texelKey(2, 0) == rootKey + 1);
-  CHECK(dag.texelKey(4, 0) == rootKey);
-  CHECK(dag.texelKey(7, 7) == rootKey);
-}
-
-// The README's predicted value, by hand: a 2² map whose root pack has child 0 without a value
-// (the root's key) and leaves 1, 2 and 3; 4-bit values 3 and 5, and child 3 predicted with the
-// 2-bit residual −1, so its key is the root's + 3 + 5 − 1. A predicted pack whose residual bits
-// are 0 is not one the writer writes.
-TEST_CASE("a hand-written predicted value reads as the README says", "[delta-dag]") {
-  const auto packsWithResidual = [](uint32_t residualBits) {
-    HandWrittenPacks packs;
-    packs.put(0b11111100, 8), packs.put(4, 6), packs.put(0, 5), packs.put(1, 1),
-        packs.put(residualBits, 4);                                   // the format
-    packs.put(3, 4), packs.put(5, 4), packs.put(0b11, residualBits);  // values, residual
-    return packs;
-  };
-  const uint32_t rootKey = 0x3f000000;
-  const ByteWriter out = packsWithResidual(2).payload(rootKey, 0, 0);
-  ByteReader in(out.bytes());
-  const DeltaDag dag = DeltaDag::load(in, {2, 0, DepthMode::Open});
-  in.expectEnd();
-  CHECK(dag.texelKey(0, 0) == rootKey);
-  CHECK(dag.texelKey(1, 0) == rootKey + 3);
-  CHECK(dag.texelKey(0, 1) == rootKey + 5);
-  CHECK(dag.texelKey(1, 1) == rootKey + 7);
-  const ByteWriter empty = packsWithResidual(0).payload(rootKey, 0, 0);
-  ByteReader emptyIn(empty.bytes());
-  CHECK_THROWS_AS(DeltaDag::load(emptyIn, {2, 0, DepthMode::Open}), FormatError);
-}
-
-// The README's layout of a reference read turned, by hand: a shared pack A at bit 0 (explicit,
-// child 0 a leaf of value 1), and the root's pack after it, both children empty and shared: A
-// as stored, and A mirrored in x (symmetry 1), its leaf then the top right texel's.
-TEST_CASE("a hand-written reference read mirrored reads as the README says", "[delta-dag]") {
-  HandWrittenPacks packs;
-  packs.put(0b11, 8), packs.put(2, 6), packs.put(0, 5), packs.put(1, 2);  // A
-  const uint64_t root = packs.at;
-  packs.put(0b1010, 8), packs.put(0b11, 4), packs.put(1, 1), packs.put(0b10, 4),
-      packs.put(5, 6);                                // flags, masks, widths
-  packs.put(0, 5), packs.put(0, 5), packs.put(1, 3);  // A; A mirrored in x
-  const uint32_t rootKey = 0x3f000000;
-  const ByteWriter out = packs.payload(rootKey, root, 0);
-  ByteReader in(out.bytes());
-  const DeltaDag dag = DeltaDag::load(in, {4, 0, DepthMode::Closed});
-  in.expectEnd();
-  CHECK(dag.texelKey(0, 0) == rootKey + 1);
-  CHECK(dag.texelKey(1, 0) == rootKey);
-  CHECK(dag.texelKey(3, 0) == rootKey + 1);
-  CHECK(dag.texelKey(2, 0) == rootKey);
-  CHECK(dag.texelKey(0, 1) == rootKey);
-  CHECK(dag.texelKey(3, 1) == rootKey);
-  CHECK(dag.texelKey(2, 3) == rootKey);
-}
-
-// The README's shared addresses in units, by hand, with units of 2^3 bits: shared packs A at bit 0
-// (child 0 a leaf of value 1) and B, after 3 bits of padding, at bit 24 (child 3 a leaf of value
-// 1), and the root's pack after them, both children empty and shared: A at address 0, B at 3.
-TEST_CASE("a hand-written layout with addresses in 8-bit units reads as the README says",
-          "[delta-dag]") {
-  HandWrittenPacks packs;
-  packs.put(0b11, 8), packs.put(2, 6), packs.put(0, 5), packs.put(1, 2);        // A
-  packs.put(0, 3);                                                              // padding
-  packs.put(0b11000000, 8), packs.put(2, 6), packs.put(0, 5), packs.put(1, 2);  // B
-  const uint64_t root = packs.at;
-  packs.put(0b1010, 8), packs.put(0b11, 4), packs.put(0, 1),
-      packs.put(2, 6);               // flags, shared mask, not turned, width
-  packs.put(0, 2), packs.put(3, 2);  // A; B at 3 units of 8 bits
-  const uint32_t rootKey = 0x3f000000;
-  const ByteWriter out = packs.payload(rootKey, root, 3);
-  ByteReader in(out.bytes());
-  const DeltaDag dag = DeltaDag::load(in, {4, 0, DepthMode::Closed});
-  in.expectEnd();
-  CHECK(dag.texelKey(0, 0) == rootKey + 1);
-  CHECK(dag.texelKey(1, 0) == rootKey);
-  CHECK(dag.texelKey(3, 1) == rootKey + 1);
-  CHECK(dag.texelKey(2, 0) == rootKey);
-  CHECK(dag.texelKey(2, 1) == rootKey);
-  CHECK(dag.texelKey(0, 3) == rootKey);
-  const ByteWriter wide = packs.payload(rootKey, root, delta_dag::kMaxAddressUnit + 1);
-  ByteReader wideIn(wide.bytes());
-  CHECK_THROWS_AS(DeltaDag::load(wideIn, {4, 0, DepthMode::Closed}), FormatError);
-}
-
-// The README's table format with an address width for each shared child, by hand: shared packs
-// A at bit 0 and B at bit 24 as above, each escaping (code 1) to its explicit format; the root's
-// pack takes the table's one format (code 0): both children empty and shared, the widest address
-// 2 bits, child 0's narrowed by 1 in the narrowed formats (A at address 0 in 1 bit, B at 3 in 2).
-TEST_CASE(
-    "a hand-written table format with its own width for each shared address reads as the "
-    "README says",
-    "[delta-dag]") {
-  HandWrittenPacks packs;
-  packs.put(1, 1), packs.put(0b11, 8), packs.put(2, 6), packs.put(0, 5), packs.put(1, 2);  // A
-  packs.put(0, 2);  // padding
-  packs.put(1, 1), packs.put(0b11000000, 8), packs.put(2, 6), packs.put(0, 5),
-      packs.put(1, 2);  // B
-  const uint64_t root = packs.at;
-  packs.put(0, 1), packs.put(0, 1), packs.put(3, 2);  // the root: its code, A, B
-  const uint32_t rootKey = 0x3f000000;
-  const uint64_t entry =
-      0b1010 | uint64_t(2) << 25 | uint64_t(0b11) << 31 | uint64_t(1) << delta_dag::kFormatCodeBits;
-  const auto load = [&](const std::vector<uint32_t>& narrowed) {
-    const ByteWriter out = packs.payload(rootKey, root, 3, {entry}, 1, narrowed);
-    ByteReader in(out.bytes());
-    DeltaDag dag = DeltaDag::load(in, {4, 0, DepthMode::Closed});
-    in.expectEnd();
-    return dag;
-  };
-  const DeltaDag dag = load({1u << 16});
-  CHECK(dag.texelKey(0, 0) == rootKey + 1);
-  CHECK(dag.texelKey(1, 0) == rootKey);
-  CHECK(dag.texelKey(3, 1) == rootKey + 1);
-  CHECK(dag.texelKey(2, 0) == rootKey);
-  CHECK(dag.texelKey(0, 3) == rootKey);
-  // Narrowed to nothing, the address of a child that is not shared, no narrowing, a format
-  // outside the table, one named twice.
-  CHECK_THROWS_WITH(load({0x21u << 16}), Catch::Contains("0-bit address"));
-  CHECK_THROWS_WITH(load({0x101u << 16}), Catch::Contains("not shared"));
-  for (const std::vector<uint32_t>& narrowed :
-       std::vector<std::vector<uint32_t>>{{0}, {1 | 1u << 16}, {1u << 16, 1u << 16}})
-    CHECK_THROWS_WITH(load(narrowed), Catch::Contains("is not a narrowing"));
-}
-
-// Regression: four private pointers to one pack, at every level, read alike but reach it by
-// 4^levels paths. The loader found every pack's height once, and then the key ranges walked every
-// path below the skip table's level: 4.7 s for such a chain on a 32K² map, 4× more a level. Such
-// pointers are refused; a chain of one path each, as deep, is not.
-TEST_CASE("a pack reached by more paths than the packs hold is refused", "[delta-dag]") {
-  constexpr int levels = 12;
-  const uint32_t rootKey = 0x3f000000;
-  const auto chain = [&](bool fourPaths) {
-    HandWrittenPacks packs;
-    for (int level = 0; level + 1 < levels; ++level)
-      if (fourPaths)  // four empty children: the first follows the pack, the others 0 bits after
-        packs.put(0b10101010, 8), packs.put(0, 4), packs.put(1, 6), packs.put(0, 3);
-      else  // child 0 empty, following the pack
-        packs.put(0b10, 8), packs.put(0, 4);
-    packs.put(0b11, 8), packs.put(2, 6), packs.put(0, 5), packs.put(1, 2);  // child 0 a leaf
-    return packs.payload(rootKey, 0, 0);
-  };
-  const ByteWriter onePath = chain(false);
-  ByteReader onePathIn(onePath.bytes());
-  const DeltaDag dag = DeltaDag::load(onePathIn, {uint32_t(1) << levels, 0, DepthMode::Closed});
-  CHECK(dag.texelKey(0, 0) == rootKey + 1);
-  CHECK(dag.texelKey(1, 0) == rootKey);
-  const ByteWriter fourPaths = chain(true);
-  ByteReader fourPathsIn(fourPaths.bytes());
-  CHECK_THROWS_WITH(DeltaDag::load(fourPathsIn, {uint32_t(1) << levels, 0, DepthMode::Closed}),
-                    Catch::Contains("more paths"));
 }
 
 }  // namespace
