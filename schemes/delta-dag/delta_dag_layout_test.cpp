@@ -49,6 +49,14 @@ struct HandWrittenPacks {
   }
 };
 
+// The structure a payload holds, every byte of it read.
+DeltaDag loadWhole(const ByteWriter& out, const MapInfo& map) {
+  ByteReader in(out.bytes());
+  DeltaDag dag = DeltaDag::load(in, map);
+  in.expectEnd();
+  return dag;
+}
+
 // The layout with a table, written by hand from the README: a table of one format (child 0 a
 // leaf, 2-bit values) whose code is 0, the escape's 1; the root pack escapes (child 0 full, value
 // 1, its pack following with no pointer), the pack below uses the table (child 0 a leaf, value 1).
@@ -62,9 +70,7 @@ TEST_CASE("a hand-written layout with a table and an escape reads as the README 
   const uint64_t format = 0b11 | uint64_t(2) << 8;
   const ByteWriter out =
       packs.payload(rootKey, 0, 0, {format | uint64_t(1) << delta_dag::kFormatCodeBits}, 1);
-  ByteReader in(out.bytes());
-  const DeltaDag dag = DeltaDag::load(in, {8, 0, DepthMode::Closed});
-  in.expectEnd();
+  const DeltaDag dag = loadWhole(out, {8, 0, DepthMode::Closed});
   CHECK(dag.texelKey(0, 0) == rootKey + 2);
   CHECK(dag.texelKey(1, 1) == rootKey + 2);
   CHECK(dag.texelKey(3, 3) == rootKey + 1);
@@ -87,16 +93,13 @@ TEST_CASE("a hand-written predicted value reads as the README says", "[delta-dag
   };
   const uint32_t rootKey = 0x3f000000;
   const ByteWriter out = packsWithResidual(2).payload(rootKey, 0, 0);
-  ByteReader in(out.bytes());
-  const DeltaDag dag = DeltaDag::load(in, {2, 0, DepthMode::Open});
-  in.expectEnd();
+  const DeltaDag dag = loadWhole(out, {2, 0, DepthMode::Open});
   CHECK(dag.texelKey(0, 0) == rootKey);
   CHECK(dag.texelKey(1, 0) == rootKey + 3);
   CHECK(dag.texelKey(0, 1) == rootKey + 5);
   CHECK(dag.texelKey(1, 1) == rootKey + 7);
   const ByteWriter empty = packsWithResidual(0).payload(rootKey, 0, 0);
-  ByteReader emptyIn(empty.bytes());
-  CHECK_THROWS_AS(DeltaDag::load(emptyIn, {2, 0, DepthMode::Open}), FormatError);
+  CHECK_THROWS_AS(loadWhole(empty, {2, 0, DepthMode::Open}), FormatError);
 }
 
 // The README's layout of a reference read turned, by hand: a shared pack A at bit 0 (explicit,
@@ -111,9 +114,7 @@ TEST_CASE("a hand-written reference read mirrored reads as the README says", "[d
   packs.put(0, 5), packs.put(0, 5), packs.put(1, 3);  // A; A mirrored in x
   const uint32_t rootKey = 0x3f000000;
   const ByteWriter out = packs.payload(rootKey, root, 0);
-  ByteReader in(out.bytes());
-  const DeltaDag dag = DeltaDag::load(in, {4, 0, DepthMode::Closed});
-  in.expectEnd();
+  const DeltaDag dag = loadWhole(out, {4, 0, DepthMode::Closed});
   CHECK(dag.texelKey(0, 0) == rootKey + 1);
   CHECK(dag.texelKey(1, 0) == rootKey);
   CHECK(dag.texelKey(3, 0) == rootKey + 1);
@@ -138,9 +139,7 @@ TEST_CASE("a hand-written layout with addresses in 8-bit units reads as the READ
   packs.put(0, 2), packs.put(3, 2);  // A; B at 3 units of 8 bits
   const uint32_t rootKey = 0x3f000000;
   const ByteWriter out = packs.payload(rootKey, root, 3);
-  ByteReader in(out.bytes());
-  const DeltaDag dag = DeltaDag::load(in, {4, 0, DepthMode::Closed});
-  in.expectEnd();
+  const DeltaDag dag = loadWhole(out, {4, 0, DepthMode::Closed});
   CHECK(dag.texelKey(0, 0) == rootKey + 1);
   CHECK(dag.texelKey(1, 0) == rootKey);
   CHECK(dag.texelKey(3, 1) == rootKey + 1);
@@ -148,8 +147,7 @@ TEST_CASE("a hand-written layout with addresses in 8-bit units reads as the READ
   CHECK(dag.texelKey(2, 1) == rootKey);
   CHECK(dag.texelKey(0, 3) == rootKey);
   const ByteWriter wide = packs.payload(rootKey, root, delta_dag::kMaxAddressUnit + 1);
-  ByteReader wideIn(wide.bytes());
-  CHECK_THROWS_AS(DeltaDag::load(wideIn, {4, 0, DepthMode::Closed}), FormatError);
+  CHECK_THROWS_AS(loadWhole(wide, {4, 0, DepthMode::Closed}), FormatError);
 }
 
 // The README's table format with an address width for each shared child, by hand: shared packs
@@ -172,10 +170,7 @@ TEST_CASE(
       0b1010 | uint64_t(2) << 25 | uint64_t(0b11) << 31 | uint64_t(1) << delta_dag::kFormatCodeBits;
   const auto load = [&](const std::vector<uint32_t>& narrowed) {
     const ByteWriter out = packs.payload(rootKey, root, 3, {entry}, 1, narrowed);
-    ByteReader in(out.bytes());
-    DeltaDag dag = DeltaDag::load(in, {4, 0, DepthMode::Closed});
-    in.expectEnd();
-    return dag;
+    return loadWhole(out, {4, 0, DepthMode::Closed});
   };
   const DeltaDag dag = load({1u << 16});
   CHECK(dag.texelKey(0, 0) == rootKey + 1);
@@ -210,13 +205,11 @@ TEST_CASE("a pack reached by more paths than the packs hold is refused", "[delta
     return packs.payload(rootKey, 0, 0);
   };
   const ByteWriter onePath = chain(false);
-  ByteReader onePathIn(onePath.bytes());
-  const DeltaDag dag = DeltaDag::load(onePathIn, {uint32_t(1) << levels, 0, DepthMode::Closed});
+  const DeltaDag dag = loadWhole(onePath, {uint32_t(1) << levels, 0, DepthMode::Closed});
   CHECK(dag.texelKey(0, 0) == rootKey + 1);
   CHECK(dag.texelKey(1, 0) == rootKey);
   const ByteWriter fourPaths = chain(true);
-  ByteReader fourPathsIn(fourPaths.bytes());
-  CHECK_THROWS_WITH(DeltaDag::load(fourPathsIn, {uint32_t(1) << levels, 0, DepthMode::Closed}),
+  CHECK_THROWS_WITH(loadWhole(fourPaths, {uint32_t(1) << levels, 0, DepthMode::Closed}),
                     Catch::Contains("more paths"));
 }
 
