@@ -118,7 +118,7 @@ DeltaDag::KeyOffsets DeltaDag::packKeyOffsets(uint64_t position, bool remember,
     if (!added) return known[found];
     id = found;
   }
-  const PackFormat f = format(read64(position));
+  const PackFormat f = format(position);
   KeyOffsets offsets{INT64_MAX, INT64_MIN};
   for (int k = 0; k < kMhChildren; ++k) {
     const MhChild kind = MhChild(childFlag(f.flags, k));
@@ -325,7 +325,7 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     const uint64_t word = dag.read64(position);
     if (dag.decode_[word & dag.codeMask_] == kNoSymbol)
       throw fail(position, "starts with no format's code");
-    const PackFormat f = dag.format(word);
+    const PackFormat f = dag.format(position);
     if (f.headerBits() > bits - position) throw fail(position, "runs past the packs");
     if (const std::string invalid = invalidFormat(f); !invalid.empty())
       throw fail(position, invalid);

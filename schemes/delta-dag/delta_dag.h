@@ -164,7 +164,7 @@ class DeltaDag {
     const uint64_t word = read64(walk.position);
     const uint32_t symbol = decode_[word & codeMask_];
     return symbol < formatCount_ ? step(formats_[symbol], walk, k)
-                                 : step(explicitFormat(word >> escapeBits_, escapeBits_), walk, k);
+                                 : step(explicitFormatAt(walk.position), walk, k);
   }
 
   // Where a walk to texel (i, j) stands at the skip level (a leaf where it ended above it).
@@ -306,11 +306,20 @@ class DeltaDag {
     if (k == f.predicted()) value += neighboursValue(f, position, k);
     return int32_t(value << f.shift);
   }
-  // The format of the pack whose first bits `word` holds.
-  PackFormat format(uint64_t word) const {
-    const uint32_t symbol = decode_[word & codeMask_];
+  // The format of the pack at `position`.
+  PackFormat format(uint64_t position) const {
+    const uint32_t symbol = decode_[read64(position) & codeMask_];
     if (symbol < formatCount_) return formats_[symbol];
-    return explicitFormat(word >> escapeBits_, escapeBits_);
+    return explicitFormatAt(position);
+  }
+  // The explicit format of the pack at `position`, read from the escape code's end: one read
+  // holds 57 bits, the escape code takes up to 16 and the explicit fields up to 45 (a pack with
+  // values, a turned shared child, private pointers and a predicted value). Read with the code,
+  // the fields past 57 bits read as 0: on the city open at 64K², whose escape code takes 16 bits,
+  // packs beginning at bit 4 to 7 of a byte read their residual's width wrong, the fields after it
+  // misplaced, and the build's key ranges walked off the packs.
+  PackFormat explicitFormatAt(uint64_t position) const {
+    return explicitFormat(read64(position + escapeBits_), escapeBits_);
   }
   // An explicit format from its first bits, after `escapeBits` bits of escape code. Out of line,
   // so that a walk's loop stays small for the table's formats (a fifth of the forest's packs
@@ -357,7 +366,7 @@ class DeltaDag {
     const uint32_t midX = x0 + half, midY = y0 + half;
     const bool columns[2] = {rect.i0 < midX, rect.i1 >= midX};
     const bool rows[2] = {rect.j0 < midY, rect.j1 >= midY};
-    const PackFormat f = format(read64(walk.position));  // once for the four children
+    const PackFormat f = format(walk.position);  // once for the four children
     for (int k = 0; k < kMhChildren; ++k) {
       if (!columns[k & 1] || !rows[k >> 1]) continue;
       const uint32_t cx = x0 + (k & 1) * half, cy = y0 + (k >> 1) * half;

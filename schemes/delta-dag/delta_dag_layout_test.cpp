@@ -187,6 +187,39 @@ TEST_CASE(
     CHECK_THROWS_WITH(load(narrowed), Catch::Contains("is not a narrowing"));
 }
 
+// Regression: the longest explicit header, after the longest escape code, at bit 7 of a byte.
+// One read from the pack's first bit holds 57 of its 61 bits, and the residual's width was read
+// from past them (the city open at 64K² misread so). A 4² map: a shared pack S at bit 0 (the
+// table's one format, code 0: child 0 a leaf, 2-bit values; its value 1), 4 bits of padding, and
+// the root's pack escaping (its code 1 and fifteen 0s): child 0 empty and private (P0 follows),
+// child 1 full with value 3 and private (P1, 3 bits after P0), child 2 full with value 5 and
+// shared (S read mirrored in x), child 3 a leaf predicted with the residual −1 (3 + 5 − 1).
+TEST_CASE(
+    "a hand-written escape of every field after a 16-bit escape code reads as the README "
+    "says",
+    "[delta-dag]") {
+  HandWrittenPacks packs;
+  packs.put(0, 1), packs.put(1, 2);  // S
+  packs.put(0, 4);                   // padding
+  const uint64_t root = packs.at;
+  packs.put(1, 16), packs.put(0b11010110, 8), packs.put(4, 6), packs.put(0, 5);  // flags, values
+  packs.put(0b0100, 4), packs.put(1, 1), packs.put(0b0100, 4);         // shared and turned: child 2
+  packs.put(5, 6), packs.put(4, 6), packs.put(1, 1), packs.put(2, 4);  // widths, the residual's
+  packs.put(3, 4), packs.put(3, 5);                                    // child 1: value, P1
+  packs.put(5, 4), packs.put(0, 4), packs.put(1, 3);                   // child 2: value, S, turn
+  packs.put(0b11, 2);                                                  // child 3: residual
+  packs.put(0, 1), packs.put(1, 2);                                    // P0
+  packs.put(0, 1), packs.put(1, 2);                                    // P1
+  REQUIRE(root % 8 == 7);
+  const uint32_t rootKey = 0x3f000000;
+  const uint64_t entry = 0b11 | uint64_t(2) << 8 | uint64_t(1) << delta_dag::kFormatCodeBits;
+  const ByteWriter out = packs.payload(rootKey, root, 0, {entry}, 16);
+  const DeltaDag dag = loadWhole(out, {4, 0, DepthMode::Closed});
+  const uint32_t expected[4][4] = {{1, 0, 4, 3}, {0, 0, 3, 3}, {5, 6, 7, 7}, {5, 5, 7, 7}};
+  for (uint32_t j = 0; j < 4; ++j)
+    for (uint32_t i = 0; i < 4; ++i) CHECK(dag.texelKey(i, j) == rootKey + expected[j][i]);
+}
+
 // Regression: four private pointers to one pack, at every level, read alike but reach it by
 // 4^levels paths. The loader found every pack's height once, and then the key ranges walked every
 // path below the skip table's level: 4.7 s for such a chain on a 32K² map, 4× more a level. Such
