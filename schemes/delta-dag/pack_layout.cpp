@@ -415,22 +415,13 @@ void layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector
       if (f.residualBits) out.put(f.residualBits, 4);
     }
     layout.headerBits += f.headerBits();
-    // BitWriter::put keeps a field's low bits: a value wider than its field would be written
-    // wrong, and read as another pack's position.
-    const auto fieldTooNarrow = [&](int k, const char* what) {
-      return std::logic_error(fmt::format(
-          "delta-dag: child {}'s {} does not fit its field at bit {}", k, what, out.position()));
-    };
     for (int k = 0; k < kMhChildren; ++k) {
       if (const uint32_t bits = f.valueWidth(k); bits != 0) {
-        const int64_t value = uint32_t(k) == f.predicted() ? predictionResidual(pack, f.shift)
-                                                           : int64_t(pack.values[k] >> f.shift);
-        if (signedBits(value) > bits) throw fieldTooNarrow(k, "value");
-        out.put(uint64_t(value), bits);
+        out.putSigned(uint32_t(k) == f.predicted() ? predictionResidual(pack, f.shift)
+                                                   : int64_t(pack.values[k] >> f.shift),
+                      bits);
         layout.valueBits += bits;
       }
-      if (uint32_t(std::bit_width(e.pointers[k])) > f.pointerWidth[k])
-        throw fieldTooNarrow(k, "pointer");
       out.put(e.pointers[k], f.pointerWidth[k]);
       layout.pointerBits += f.pointerWidth[k];
       if (f.symmetryMask >> k & 1) {
@@ -481,6 +472,11 @@ void layOut(const std::vector<Pack>& packs, uint32_t rootPack, const std::vector
 }
 
 }  // namespace
+
+void BitWriter::refuseNarrowField(uint32_t bits) const {
+  throw std::logic_error(
+      fmt::format("delta-dag: a value wider than its {}-bit field at bit {}", bits, bits_));
+}
 
 Layout countLayout(const std::vector<Pack>& packs, uint32_t rootPack,
                    const std::vector<bool>& absolute, const std::vector<uint32_t>& shared,

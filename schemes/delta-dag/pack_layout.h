@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <vector>
 
@@ -54,18 +55,20 @@ int64_t predictionResidual(const Pack& pack, uint32_t shift);
 // with `prediction` the predicted form where it takes 4 bits fewer or more.
 ValueFields fittedValues(const Pack& pack, bool prediction);
 
-// Appends fields of up to 57 bits to a little-endian bit stream.
+// Appends fields of up to 57 bits to a little-endian bit stream. A value wider than its field is
+// refused (std::logic_error): written, it would keep only its low bits and be read as another, a
+// pointer as another pack's position.
 class BitWriter {
  public:
   uint64_t position() const { return bits_; }
   void put(uint64_t value, uint32_t bits) {
-    if (bits == 0) return;
-    value &= (uint64_t(1) << bits) - 1;
-    const uint32_t offset = uint32_t(bits_ & 63);
-    words_.resize((bits_ + bits + 63) / 64, 0);
-    words_[bits_ >> 6] |= value << offset;
-    if (offset + bits > 64) words_[(bits_ >> 6) + 1] |= value >> (64 - offset);
-    bits_ += bits;
+    if (uint32_t(std::bit_width(value)) > bits) refuseNarrowField(bits);
+    append(value, bits);
+  }
+  // In two's complement.
+  void putSigned(int64_t value, uint32_t bits) {
+    if (signedBits(value) > bits) refuseNarrowField(bits);
+    append(uint64_t(value) & ((uint64_t(1) << bits) - 1), bits);
   }
   // The bytes of the stream, then 8 bytes of padding (DeltaDag::read64 reads past the end).
   std::vector<uint8_t> release() const {
@@ -76,6 +79,15 @@ class BitWriter {
   }
 
  private:
+  [[noreturn]] void refuseNarrowField(uint32_t bits) const;
+  void append(uint64_t value, uint32_t bits) {
+    if (bits == 0) return;
+    const uint32_t offset = uint32_t(bits_ & 63);
+    words_.resize((bits_ + bits + 63) / 64, 0);
+    words_[bits_ >> 6] |= value << offset;
+    if (offset + bits > 64) words_[(bits_ >> 6) + 1] |= value >> (64 - offset);
+    bits_ += bits;
+  }
   std::vector<uint64_t> words_;
   uint64_t bits_ = 0;
 };
