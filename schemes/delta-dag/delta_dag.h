@@ -366,9 +366,10 @@ class DeltaDag {
   };
   // `rect`'s keys below the inner node `walk` stands at, whose square has its corner at (x0, y0):
   // level by level rather than depth first, so that the packs of one level are read one after the
-  // other, each prefetched when its parent's step found it, and their cache misses overlap (the
-  // city open at 16K², view 9×9: 0.63× the time of the depth-first walk; delta-dag README, "Kernels
-  // level by level"). The levels are kept per thread, so `visit` must not walk this structure.
+  // other, each prefetched when its parent's step found it, and their cache misses overlap (with
+  // visitTexelChildren, the open city's view 9×9 at 16K² took 0.59× the depth-first walk's time;
+  // delta-dag README, "Kernels level by level"). The levels are kept per thread, so `visit` must
+  // not walk this structure.
   template <class Visit>
   void walkRect(const Walk& walk, uint32_t x0, uint32_t y0, const TexelRect& rect,
                 Visit& visit) const {
