@@ -423,7 +423,8 @@ TEST_CASE("a table format's own width for each shared address takes fewer pointe
 // An open map of tilted planes, their float depths as a ray caster rounds them (each texel a point
 // interval): the keys of a square's corners are on a plane to an ulp or two, so the packs of
 // three values predict the fourth child's opposite and take fewer value bits, and every texel
-// still reads its exact key, also read back from the bytes.
+// still reads its exact key, also read back from the bytes, and by kernel walks (which cut a
+// texel pack's narrow values, the predicted one too, from one read).
 TEST_CASE("values predicted from the plane through a pack read their exact keys", "[delta-dag]") {
   for (uint64_t seed = 1; seed <= 4; ++seed) {
     uint64_t state = seed;
@@ -447,6 +448,11 @@ TEST_CASE("values predicted from the plane through a pack read their exact keys"
     for (uint32_t j = 0; j < map.resolution; ++j)
       for (uint32_t i = 0; i < map.resolution; ++i)
         REQUIRE(loaded.texelKey(i, j) == depthKey(map.lo[size_t(j) * 128 + i]));
+    for (int trial = 0; trial < 200; ++trial) {
+      const TexelRect rect = randomRect(state, 128, 12);
+      INFO("rect " << rect.i0 << ", " << rect.j0 << " to " << rect.i1 << ", " << rect.j1);
+      REQUIRE(kernelWalkMatchesPointWalks(loaded, rect));
+    }
   }
 }
 
