@@ -13,17 +13,4 @@ resolution=${1:-16K}
 build_at depth-first c6c4a4b
 build_at texel-children c6c4a4b delta-dag-texel-children.patch
 build_at level-by-level e1f42c5
-for cell in "city:full closed" "terrain:full closed" "tangle:full closed" "forest:full static" \
-  "city:full open"; do
-  read -r scene mode <<<"$cell"
-  "$work/level-by-level-build/harness/shadowbench" build --scheme delta-dag -s "$scene" -m "$mode" \
-    -r "$resolution" --no-bench --no-verify --results "$work/records" -o "$work/structure.sb" \
-    >/dev/null
-  for run in 1 2 3 4; do
-    for walk in depth-first texel-children level-by-level; do
-      printf '%s %s %s, run %d, %s: ' "$scene" "$mode" "$resolution" "$run" "$walk"
-      "$work/$walk-build/harness/shadowbench" bench "$work/structure.sb" -s "$scene" \
-        --filters 1,9 --rounds 3 | awk '/^(uniform|view)/ { printf "%s ", $4 } END { print "" }'
-    done
-  done
-done
+alternate_on_cells "$resolution" depth-first texel-children level-by-level

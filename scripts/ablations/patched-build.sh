@@ -29,3 +29,27 @@ build_at() {
     exit 1
   fi
 }
+
+# `alternate_on_cells RESOLUTION NAME...`: on the city, the terrain and the tangle closed, the
+# forest static and the city open, one `delta-dag` structure built by the last NAME's build (the
+# builds must share its layout), then each NAME's `shadowbench bench --filters 1,9 --rounds 3` on
+# it in turn, four times; each line gives uniform 1×1, uniform 9×9, view 1×1 and view 9×9 in ns per
+# query (one thread).
+alternate_on_cells() {
+  local resolution=$1 cell scene mode run name
+  shift
+  for cell in "city:full closed" "terrain:full closed" "tangle:full closed" "forest:full static" \
+    "city:full open"; do
+    read -r scene mode <<<"$cell"
+    "$work/${*: -1}-build/harness/shadowbench" build --scheme delta-dag -s "$scene" -m "$mode" \
+      -r "$resolution" --no-bench --no-verify --results "$work/records" -o "$work/structure.sb" \
+      >/dev/null
+    for run in 1 2 3 4; do
+      for name in "$@"; do
+        printf '%s %s %s, run %d, %s: ' "$scene" "$mode" "$resolution" "$run" "$name"
+        "$work/$name-build/harness/shadowbench" bench "$work/structure.sb" -s "$scene" \
+          --filters 1,9 --rounds 3 | awk '/^(uniform|view)/ { printf "%s ", $4 } END { print "" }'
+      done
+    done
+  done
+}
