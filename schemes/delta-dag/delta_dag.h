@@ -275,8 +275,8 @@ class DeltaDag {
                 (neighboursValue(f, walk.position, s) & (0u - uint32_t(predicted)));
       }
       walk.key += value << f.shift;
-      field = valueBits + pointerBits + kSymmetryBits <= 57 ? field >> valueBits
-                                                            : read64(at + valueBits);
+      field = valueBits + pointerBits + kSymmetryBits <= kReadBits ? field >> valueBits
+                                                                   : read64(at + valueBits);
     }
     if (child != MhChild::Leaf) {
       const uint64_t pointer = field & ((uint64_t(1) << pointerBits) - 1);
@@ -412,7 +412,7 @@ class DeltaDag {
   void visitTexelChildren(const PackFormat& f, const Walk& walk, uint32_t overlaps,
                           Visit& visit) const {
     const uint32_t first = f.fieldAt[0];
-    if (f.bits - first > 57) {
+    if (f.bits - first > kReadBits) {
       for (; overlaps; overlaps &= overlaps - 1) {
         const uint32_t s = kSymmetry.apply[walk.symmetry][std::countr_zero(overlaps)];
         visit(walk.key + uint32_t(childValue(f, walk.position, s)), 1);

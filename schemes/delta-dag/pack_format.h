@@ -49,6 +49,8 @@ inline const PackShape& packShape(uint32_t flags) {
 // bits a child, stored apart (PackFormat::narrowings): few formats narrow any.
 constexpr uint32_t kFormatCodeBits = 43, kSymmetryBits = 3;
 constexpr uint64_t kEntryCodeMask = (uint64_t(1) << kFormatCodeBits) - 1;
+// What one unaligned 64-bit read reaches from any bit of a byte: 64 − 7 bits.
+constexpr uint32_t kReadBits = 57;
 // A shared child's address is at most this many bits narrower than the pack's widest: the code
 // keeps the difference in 4 bits.
 constexpr uint32_t kMaxNarrowing = 15;

@@ -14,7 +14,7 @@
 namespace sb::delta_dag {
 
 // What one read64 reaches: a pointer and a symmetry in 57 bits.
-constexpr uint32_t kMaxValueBits = 32, kMaxPointerBits = 57 - kSymmetryBits;
+constexpr uint32_t kMaxValueBits = 32, kMaxPointerBits = kReadBits - kSymmetryBits;
 
 inline bool isInner(uint32_t kind) {
   return MhChild(kind) == MhChild::Full || MhChild(kind) == MhChild::Empty;
