@@ -39,7 +39,7 @@ int64_t simplestIn(int64_t lo, int64_t hi) {
 
 DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
                    uint32_t addressUnit, FormatTable table, std::vector<uint8_t> bytes,
-                   uint64_t bits, bool validated)
+                   uint64_t bits)
     : levels_(levels),
       rootKind_(rootKind),
       rootKey_(rootKey),
@@ -59,20 +59,19 @@ DeltaDag::DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t root
     codeMask_ = (uint64_t(1) << longest) - 1;
     decode_ = decodeTable(table_.lengths, longest);
   }
-  if (validated) buildLookupTables();
 }
 
-int DeltaDag::skipLevelFor(uint64_t packBits, int levels) {
+int DeltaDag::skipLevelFor(uint64_t packBits, int levels, uint64_t budget) {
   const uint64_t packBytes = packBits / 8;
-  const uint64_t budget = std::max(packBytes / 32, std::min<uint64_t>(1 << 20, packBytes / 5));
+  budget = std::max(packBytes / 32, std::min(budget, packBytes / 5));
   const uint64_t entryBytes = 4 * skipEntryWords(packBits);
   int level = 0;
   while (level < levels && (entryBytes << (2 * (level + 1))) <= budget) ++level;
   return level;
 }
 
-void DeltaDag::buildSkipTable() {
-  skipLevel_ = skipLevelFor(bits_, levels_);
+void DeltaDag::buildSkipTable(uint64_t budget) {
+  skipLevel_ = skipLevelFor(bits_, levels_, budget);
   skipEntryWords_ = skipEntryWords(bits_);
   const uint32_t side = uint32_t(1) << skipLevel_;
   skip_.resize(size_t(side) * side * skipEntryWords_);
@@ -206,7 +205,7 @@ std::string invalidFormat(const PackFormat& f) {
 
 }  // namespace
 
-DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
+DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map, uint64_t skipBudget) {
   if (map.resolution == 0 || !std::has_single_bit(map.resolution))
     throw FormatError(
         fmt::format("delta-dag: resolution {} is not a power of two", map.resolution));
@@ -288,9 +287,9 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
       (rootPosition != 0 || addressUnit != 0 || bits != 0 || !table.lengths.empty()))
     throw FormatError("delta-dag: a leaf root with packs");
   DeltaDag dag(levels, rootKind, rootKey, rootPosition, addressUnit, std::move(table),
-               std::move(bytes), bits, false);
+               std::move(bytes), bits);
   if (rootKind == MhChild::Leaf) {
-    dag.buildLookupTables();
+    dag.buildLookupTables(skipBudget);
     return dag;
   }
 
@@ -348,7 +347,7 @@ DeltaDag DeltaDag::load(ByteReader& in, const MapInfo& map) {
     return below + 1;
   };
   height(height, rootPosition, false, levels);
-  dag.buildLookupTables();
+  dag.buildLookupTables(skipBudget);
   return dag;
 }
 
@@ -381,9 +380,11 @@ Encoded encodeFound(FoundPacks found, PackReference root, uint32_t rootKey, int 
   reserve(packs.size() * kLaterBytesPerPack,
           fmt::format("delta-dag: laying out {} distinct packs", packs.size()));
 
-  if (rootPack == kNoPack)
-    return {DeltaDag(levels, MhChild::Leaf, rootKey, 0, 0, {}, std::vector<uint8_t>(8, 0), 0),
-            stats};
+  if (rootPack == kNoPack) {
+    DeltaDag dag(levels, MhChild::Leaf, rootKey, 0, 0, {}, std::vector<uint8_t>(8, 0), 0);
+    dag.buildLookupTables(options.skipBudget);
+    return {std::move(dag), stats};
+  }
   if (options.sharing && options.symmetry)
     stats.packSplits = orient(packs, selfSymmetries, {rootPack, rootSymmetry}, options.prediction);
   if (options.sharing && options.copies)
@@ -438,9 +439,10 @@ Encoded encodeFound(FoundPacks found, PackReference root, uint32_t rootKey, int 
   stats.pointerBits = best.pointerBits, stats.symmetryBits = best.symmetryBits;
   stats.addressUnit = best.addressUnit, stats.paddingBits = best.paddingBits;
   const uint64_t bits = best.bits();
-  return {DeltaDag(levels, MhChild::Full, rootKey, best.rootPosition, best.addressUnit,
-                   std::move(best.table), best.out.release(), bits),
-          stats};
+  DeltaDag dag(levels, MhChild::Full, rootKey, best.rootPosition, best.addressUnit,
+               std::move(best.table), best.out.release(), bits);
+  dag.buildLookupTables(options.skipBudget);
+  return {std::move(dag), stats};
 }
 
 }  // namespace sb::delta_dag

@@ -88,6 +88,9 @@ enum class ValueChoice : uint8_t {
   Middle,
 };
 
+// The bytes the skip table may take by default (DeltaDag::skipLevelFor): 1 MiB.
+constexpr uint64_t kDefaultSkipBudget = uint64_t(1) << 20;
+
 // Each direction can be switched off, so that its effect is measured alone (the ablation).
 struct Options {
   ValueChoice values = ValueChoice::Simplest;
@@ -99,6 +102,7 @@ struct Options {
   bool addressUnits = true;  // shared addresses in the unit that takes fewest bits; false: bits
   bool prediction = true;    // a pack's value opposite its valueless child predicted from a plane
   bool sharedWidths = true;  // a table format gives each shared child its own address width
+  uint64_t skipBudget = kDefaultSkipBudget;  // bytes the skip table may take (skipLevelFor)
 };
 
 // The widest unit of a shared address: 2^5 bits.
@@ -148,9 +152,9 @@ class DeltaDag {
   }
 
   DeltaDag() = default;
+  // Without its lookup tables: a lookup needs buildLookupTables first.
   DeltaDag(int levels, MhChild rootKind, uint32_t rootKey, uint64_t rootPosition,
-           uint32_t addressUnit, FormatTable table, std::vector<uint8_t> bytes, uint64_t bits,
-           bool validated = true);
+           uint32_t addressUnit, FormatTable table, std::vector<uint8_t> bytes, uint64_t bits);
 
   uint32_t resolution() const { return uint32_t(1) << levels_; }
   int levels() const { return levels_; }
@@ -227,8 +231,10 @@ class DeltaDag {
         rect, [](const KeyRange&) { return false; }, visit);
   }
 
-  // The skip table's level for packs of `packBits` bits (buildSkipTable).
-  static int skipLevelFor(uint64_t packBits, int levels);
+  // The skip table's level for packs of `packBits` bits: the deepest whose table takes at most
+  // `budget` bytes and 1/5 of the packs' bytes, or 1/32 of them where that is more
+  // (buildSkipTable).
+  static int skipLevelFor(uint64_t packBits, int levels, uint64_t budget = kDefaultSkipBudget);
   int skipLevel() const { return skipLevel_; }
   // The skip table's squares whose walk ended above its level: a lookup there reads only the entry.
   uint64_t skipSquaresAnsweredAbove() const;
@@ -237,7 +243,16 @@ class DeltaDag {
   void save(ByteWriter& out) const;
   // Validates every pack reachable from the root: fields inside the structure, widths the writer
   // uses, no value of 0, children only above the texel level (so no cycle). Throws FormatError.
-  static DeltaDag load(ByteReader& in, const MapInfo& map);
+  // The skip table takes at most `skipBudget` bytes (skipLevelFor).
+  static DeltaDag load(ByteReader& in, const MapInfo& map,
+                       uint64_t skipBudget = kDefaultSkipBudget);
+
+  // The skip table within `skipBudget` bytes (skipLevelFor), then the key ranges: both derived
+  // from the packs.
+  void buildLookupTables(uint64_t skipBudget) {
+    buildSkipTable(skipBudget);
+    buildKeyRanges();
+  }
 
  private:
   // `rect`'s keys from a walk standing above it.
@@ -438,19 +453,16 @@ class DeltaDag {
     return int64_t((field << (63 - bits)) << 1) >> (63 - bits) >> 1;
   }
 
-  // The skip table, then the key ranges: both derived from the packs.
-  void buildLookupTables() {
-    buildSkipTable();
-    buildKeyRanges();
-  }
   // DAG-MH's skip list (Scandolo & Eisemann 2021 §3.7), derived from the packs: the walk to
   // every square of the skip level, row by row, so that a lookup starts there. The level is the
-  // deepest whose table takes at most 1 MiB and 1/5 of the packs' bytes, or 1/32 of them where
-  // that is more. The packs just below DAG-MH's level 6 lie apart, each followed by its private
-  // tree, so a walk's first steps there miss the second-level cache: a table that holds them
-  // within 1 MiB (this machine's L2 a core) takes those steps off every walk, and 1/5 keeps the
-  // small structures small (the terrain at 16K² stays at level 5, 8 KiB).
-  void buildSkipTable();
+  // deepest whose table takes at most the budget (1 MiB by default) and 1/5 of the packs' bytes,
+  // or 1/32 of them where that is more. The packs just below DAG-MH's level 6 lie apart, each
+  // followed by its private tree, so a walk's first steps there miss the second-level cache: a
+  // table that holds them within 1 MiB (the L2 a core of the machine it was chosen on) takes those
+  // steps off every walk, and 1/5 keeps the small structures small (the terrain at 16K² stays at
+  // level 5, 8 KiB). A larger budget takes another step off where a level more fits (delta-dag
+  // README, "A skip table's budget").
+  void buildSkipTable(uint64_t budget);
   // Each square's key range at the level above the skip table's, from each skip entry's key and
   // its pack's offsets (packKeyOffsets): 1/4 of the skip table's squares, 8 bytes each, at most a
   // quarter of its bytes. Uniform 9×9 kernels at 16K² took about as long with ranges two levels

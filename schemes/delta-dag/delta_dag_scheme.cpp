@@ -19,7 +19,8 @@ Options optionsOf(const ParamValues& params) {
           params.choice("copies") == "cheaper",
           params.choice("address-unit") == "cheapest",
           params.choice("prediction") == "plane",
-          params.choice("address-widths") == "each"};
+          params.choice("address-widths") == "each",
+          uint64_t(params.integer("skip-budget")) << 10};
 }
 
 // The decoder of an encoded structure, the encode step's counters recorded.
@@ -114,7 +115,14 @@ SchemeInfo deltaDag() {
                         "each lets a table format give each shared child an address of its own "
                         "width (a pack's shared children are referenced unequally often, so their "
                         "addresses differ in width); widest gives them all the widest's",
-                        "each", {"each", "widest"}, {"each", "widest"})};
+                        "each", {"each", "widest"}, {"each", "widest"}),
+      ParamSpec::integer("skip-budget",
+                         "KiB the skip table may take, where lookups start (DAG-MH's skip list, "
+                         "§3.7; derived when loaded, counted in the size): the deepest level whose "
+                         "table fits it and a fifth of the packs, or a 32nd of them where that is "
+                         "more; a level deeper takes a step off every lookup for 4× the table",
+                         int64_t(delta_dag::kDefaultSkipBudget >> 10), 0, int64_t(1) << 20,
+                         {1024, 4096})};
   setMhBuilds(
       info,
       {[](const MapInfo&, const ParamValues& params) -> HierarchyEncode {
@@ -131,8 +139,9 @@ SchemeInfo deltaDag() {
         },
         kMergedBytesPerNode, delta_dag::kEncodeBytesPerNode, delta_dag::kFindingBytesPerPack}});
   info.load = [](ByteReader& in, const MapInfo& map,
-                 const ParamValues&) -> std::unique_ptr<Decoder> {
-    return std::make_unique<delta_dag::Decoder>(delta_dag::DeltaDag::load(in, map));
+                 const ParamValues& params) -> std::unique_ptr<Decoder> {
+    return std::make_unique<delta_dag::Decoder>(
+        delta_dag::DeltaDag::load(in, map, optionsOf(params).skipBudget));
   };
   return info;
 }

@@ -14,9 +14,11 @@
 
 #include "schemes/delta-dag/delta_dag.h"
 #include "schemes/delta-dag/pack_layout.h"
+#include "schemes/interface/scheme.h"
 #include "schemes/interface/serial.h"
 #include "schemes/interface/splitmix.h"
 #include "tests/support/hierarchy_map.h"
+#include "tests/support/synthetic_map.h"
 
 namespace sb {
 namespace {
@@ -140,6 +142,79 @@ TEST_CASE("the skip table's level follows its budget", "[delta-dag]") {
   CHECK(DeltaDag::skipLevelFor((uint64_t(96) << 23) - 256, 14) == 8);  // 1/32 short of 3 MiB
   CHECK(DeltaDag::skipLevelFor(uint64_t(96) << 23, 14) == 9);  // 1/32: 3 MiB of 12-byte entries
   CHECK(DeltaDag::skipLevelFor(uint64_t(1) << 33, 5) == 5);    // no deeper than the map
+}
+
+// `skip-budget` moves the cap of 1 MiB and nothing else: 16 MiB of packs (the forest at 16K²)
+// take level 9's 2 MiB from a budget of 2 MiB, 8 MiB of packs stay within a fifth of theirs, and
+// a budget of 0 leaves the 32nd of the packs.
+TEST_CASE("the skip table's budget moves its level", "[delta-dag]") {
+  const uint64_t mib = uint64_t(1) << 20, forest = uint64_t(16) << 23;
+  CHECK(DeltaDag::skipLevelFor(forest, 14) == 8);
+  CHECK(DeltaDag::skipLevelFor(forest, 14, 2 * mib - 1) == 8);
+  CHECK(DeltaDag::skipLevelFor(forest, 14, 2 * mib) == 9);
+  CHECK(DeltaDag::skipLevelFor(forest, 14, 64 * mib) == 9);  // 1/5 is 3.2 MiB
+  CHECK(DeltaDag::skipLevelFor(forest / 2, 14, 64 * mib) == 8);
+  CHECK(DeltaDag::skipLevelFor(forest, 14, 0) == 8);            // 1/32: 512 KiB
+  CHECK(DeltaDag::skipLevelFor(40'960 * 8, 10, 0) == 3);        // 1/32: 1280 bytes
+  CHECK(DeltaDag::skipLevelFor(40'960 * 8, 10, 8 * mib) == 5);  // 1/5: 8 KiB
+}
+
+// A structure with a deeper skip table, built or loaded with a larger budget, answers every
+// texel and every rectangle as the default's does, and the loaded one keeps the budget it was
+// given: a 1024² map (packs of about 530 KB) at budgets of 0, the default and 64 MiB.
+TEST_CASE("every skip budget answers alike", "[delta-dag]") {
+  const SyntheticMap map = SyntheticMap::random(1024, DepthMode::Closed, 5);
+  const MapInfo info = map.info(SchemeKind::Depth);
+  const MultiresHierarchy hierarchy = hierarchyOf(map, 16);
+  const DeltaDag reference = delta_dag::encode(hierarchy, {}).dag;
+  uint64_t state = 19;
+  for (const uint64_t budget : {uint64_t(0), delta_dag::kDefaultSkipBudget, uint64_t(64) << 20}) {
+    Options options;
+    options.skipBudget = budget;
+    const DeltaDag built = delta_dag::encode(hierarchy, options).dag;
+    ByteWriter out;
+    built.save(out);
+    ByteReader in(out.bytes());
+    const DeltaDag loaded = DeltaDag::load(in, info, budget);
+    INFO("budget " << budget);
+    CHECK(built.skipLevel() == DeltaDag::skipLevelFor(built.bits(), built.levels(), budget));
+    CHECK(loaded.skipLevel() == built.skipLevel());
+    CHECK(texelsOutside(map, loaded) == 0);
+    for (uint32_t j = 0; j < 1024; ++j)
+      for (uint32_t i = 0; i < 1024; ++i)
+        REQUIRE(loaded.texelKey(i, j) == reference.texelKey(i, j));
+    for (int trial = 0; trial < 300; ++trial) {
+      const TexelRect rect = randomRect(state, 1024, trial % 4 == 0 ? 300 : 12);
+      REQUIRE(kernelWalkMatchesPointWalks(loaded, rect));
+    }
+  }
+  CHECK(DeltaDag::skipLevelFor(reference.bits(), 10, uint64_t(64) << 20) >
+        DeltaDag::skipLevelFor(reference.bits(), 10, 0));
+}
+
+// The registry's `skip-budget` reaches the build and the load: on that map, 0 KiB leaves a 32nd
+// of the packs (level 5, 8 KiB of entries) where the default takes a fifth (level 6, 32 KiB),
+// and a structure loaded with the other budget rebuilds its table at the other level.
+TEST_CASE("delta-dag: skip-budget sets the skip table of a build and of a load", "[delta-dag]") {
+  const SchemeInfo& scheme = findScheme("delta-dag");
+  const SyntheticMap map = SyntheticMap::random(1024, DepthMode::Closed, 5);
+  const MapInfo info = map.info(scheme.kind);
+  const auto skipBytes = [](const Decoder& decoder) {
+    for (const auto& [part, bytes] : decoder.size())
+      if (part == "skip table") return bytes;
+    return uint64_t(0);
+  };
+  const auto defaults = map.build(scheme, {}, 16);
+  const auto small = map.build(scheme, {{"skip-budget", "0"}}, 16);
+  CHECK(skipBytes(*defaults) == 32 * 1024);
+  CHECK(skipBytes(*small) == 8 * 1024);
+  ByteWriter out;
+  small->save(out);
+  ByteReader in(out.bytes());
+  const auto reloaded = scheme.load(in, info, scheme.resolve({}));
+  CHECK(skipBytes(*reloaded) == 32 * 1024);
+  CHECK_THROWS_WITH(scheme.resolve({{"skip-budget", "-1"}}),
+                    Catch::Contains("delta-dag") && Catch::Contains("skip-budget"));
 }
 
 // A skip entry gives back the walk it was made of at the skip level, in either width, with
